@@ -1,0 +1,73 @@
+// weft: the viewer by default, or a headless recording with --headless.
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "app/headless_runner.hpp"
+#include "weft/version.hpp"
+#ifdef WEFT_HAS_VIEWER
+#include "app/viewer.hpp"
+#endif
+
+int main(int argc, char** argv) {
+  CLI::App app{"Weft: cloth and soft-body simulation"};
+  std::string scene_path = "scenes/default.json";
+  bool headless = false;
+  std::string out_dir;
+  int frames = -1;
+  std::vector<std::string> overrides;
+  std::string screenshot;
+  bool quiet = false;
+  bool version = false;
+
+  app.add_option("scene", scene_path, "Scene file (JSON)")->capture_default_str();
+  app.add_flag("--headless", headless, "Run without a window and record to --out");
+  app.add_option("--out", out_dir, "Output folder of a headless run");
+  app.add_option("--frames", frames, "Frames to simulate (overrides the scene's \"frames\")")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--set", overrides, "Override a scene field: path=value (e.g. solver.time_step=0.001)")
+      ->take_all();
+  app.add_option("--screenshot", screenshot, "Viewer: simulate --frames frames, save a PNG and exit");
+  app.add_flag("--quiet", quiet, "Headless: no progress output");
+  app.add_flag("--version", version, "Print the version and exit");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& help) {
+    return app.exit(help);
+  } catch (const CLI::ParseError& error) {
+    app.exit(error);
+    return 2;
+  }
+
+  if (version) {
+    std::printf("weft %s (%s)\n", weft::version_string, weft::git_commit);
+    return 0;
+  }
+  if (headless) {
+    if (out_dir.empty()) {
+      std::fprintf(stderr, "weft: --headless needs --out DIR, the folder to record into\n");
+      return 2;
+    }
+    if (!screenshot.empty()) {
+      std::fprintf(stderr, "weft: --screenshot needs the viewer; it cannot be combined with --headless\n");
+      return 2;
+    }
+    return weft::run_headless({scene_path, overrides, out_dir, frames, quiet});
+  }
+#ifdef WEFT_HAS_VIEWER
+  weft::ViewerOptions options;
+  options.scene_path = scene_path;
+  options.overrides = overrides;
+  options.screenshot_path = screenshot;
+  options.frames = frames < 0 ? 0 : frames;
+  return weft::run_viewer(options);
+#else
+  std::fprintf(stderr,
+               "weft: this build has no viewer (built with WEFT_VIEWER=OFF); run headless instead:\n"
+               "  weft --headless %s --out DIR\n",
+               scene_path.c_str());
+  return 1;
+#endif
+}

@@ -1,0 +1,19 @@
+#pragma once
+// Math vocabulary over Eigen. Per-vertex data is stored as 3 x N column-major matrices, so
+// the coordinates of one vertex are contiguous and x.col(i) is that vertex's position.
+#include <Eigen/Core>
+
+namespace weft {
+
+using Vec2 = Eigen::Vector2d;
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using Vec3i = Eigen::Vector3i;
+
+using Positions = Eigen::Matrix3Xd;  // one column per vertex (3 x n_vertices)
+using Triangles = Eigen::Matrix3Xi;  // vertex indices, counter-clockwise from the front (3 x n_triangles)
+
+// Rotation from Euler angles in degrees, applied about x, then y, then z (R = Rz * Ry * Rx).
+Mat3 rotation_from_euler_degrees(const Vec3& degrees);
+
+}  // namespace weft

@@ -1,0 +1,27 @@
+#pragma once
+// Edge and hinge connectivity of a triangle mesh, built once from the triangles.
+#include <vector>
+
+#include "core/math.hpp"
+
+namespace weft {
+
+struct MeshTopology {
+  Eigen::Matrix2Xi edges;           // unique edges, smaller vertex index first, sorted (2 x n_edges)
+  Eigen::Matrix2Xi edge_triangles;  // first two triangles at each edge; -1 where absent (2 x n_edges)
+  Eigen::Matrix3Xi triangle_edges;  // edge index of side k of each triangle, side k joins vertex k and k+1 (3 x n_triangles)
+  Eigen::Matrix4Xi hinges;          // interior edges: (v0, v1) the shared edge, v2 opposite in the
+                                    // first triangle, v3 opposite in the second (4 x n_hinges)
+  Eigen::VectorXi hinge_edges;      // edge index of each hinge (n_hinges)
+  std::vector<int> boundary_edges;  // edges with exactly one triangle
+  std::vector<int> non_manifold_edges;  // edges with three or more triangles (no hinge built)
+
+  int num_edges() const { return static_cast<int>(edges.cols()); }
+  int num_hinges() const { return static_cast<int>(hinges.cols()); }
+};
+
+// Builds the topology; throws std::invalid_argument if an index is outside [0, num_vertices)
+// or a triangle repeats a vertex.
+MeshTopology build_topology(const Triangles& triangles, int num_vertices);
+
+}  // namespace weft

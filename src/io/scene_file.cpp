@@ -1,0 +1,455 @@
+#include "io/scene_file.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace weft {
+
+using nlohmann::json;
+
+namespace {
+
+// Bounds on a number; `text` says them in words for the error message ("> 0").
+struct Range {
+  double min = -HUGE_VAL;
+  double max = HUGE_VAL;
+  bool min_open = false;
+  std::string text;
+};
+const Range any_number{-HUGE_VAL, HUGE_VAL, false, ""};
+const Range positive{0.0, HUGE_VAL, true, " > 0"};
+const Range non_negative{0.0, HUGE_VAL, false, " >= 0"};
+
+std::string type_name(const json& value) {
+  if (value.is_number_integer() || value.is_number_unsigned()) return "integer " + value.dump();
+  if (value.is_number_float()) return "number " + value.dump();
+  if (value.is_string()) return "string " + value.dump();
+  if (value.is_boolean()) return value.dump();
+  if (value.is_null()) return "null";
+  if (value.is_array()) return "an array";
+  return "an object";
+}
+
+// Reads the members of one JSON object, checking each, and rejects members nobody asked for.
+class ObjectReader {
+ public:
+  ObjectReader(const json& object, std::string path, const std::string& file)
+      : object_(object), path_(std::move(path)), file_(file) {
+    if (!object_.is_object()) fail(path_, "expected an object, got " + type_name(object_));
+  }
+
+  [[noreturn]] void fail(const std::string& path, const std::string& message) const {
+    throw SceneError(file_, path, message);
+  }
+  std::string path_of(const std::string& key) const { return path_ + "/" + key; }
+  bool has(const std::string& key) const { return object_.contains(key); }
+
+  // Marks `key` as known and returns its value, or null when absent.
+  const json* find(const std::string& key) {
+    known_.insert(key);
+    const auto it = object_.find(key);
+    return it == object_.end() ? nullptr : &*it;
+  }
+
+  void number(const std::string& key, double& out, const Range& range = any_number) {
+    if (const json* value = find(key)) out = to_number(*value, path_of(key), range);
+  }
+
+  void integer(const std::string& key, int& out, int min, int max) {
+    if (const json* value = find(key)) out = to_integer(*value, path_of(key), min, max);
+  }
+
+  void string(const std::string& key, std::string& out) {
+    if (const json* value = find(key)) {
+      if (!value->is_string()) fail(path_of(key), "expected a string, got " + type_name(*value));
+      out = value->get<std::string>();
+    }
+  }
+
+  void vec3(const std::string& key, Vec3& out) {
+    if (const json* value = find(key)) {
+      const std::string path = path_of(key);
+      if (!value->is_array() || value->size() != 3) {
+        fail(path, "expected an array of 3 numbers, got " + type_name(*value) +
+                       (value->is_array() ? " of " + std::to_string(value->size()) : ""));
+      }
+      for (int k = 0; k < 3; ++k) out[k] = to_number((*value)[k], path + "/" + std::to_string(k), any_number);
+    }
+  }
+
+  // A pair of numbers, e.g. a grid's size.
+  void pair(const std::string& key, double& first, double& second, const Range& range) {
+    if (const json* value = find(key)) {
+      const std::string path = path_of(key);
+      if (!value->is_array() || value->size() != 2) fail(path, "expected an array of 2 numbers");
+      first = to_number((*value)[0], path + "/0", range);
+      second = to_number((*value)[1], path + "/1", range);
+    }
+  }
+
+  void integer_pair(const std::string& key, int& first, int& second, int min, int max) {
+    if (const json* value = find(key)) {
+      const std::string path = path_of(key);
+      if (!value->is_array() || value->size() != 2) fail(path, "expected an array of 2 integers");
+      first = to_integer((*value)[0], path + "/0", min, max);
+      second = to_integer((*value)[1], path + "/1", min, max);
+    }
+  }
+
+  template <typename Enum>
+  void enumeration(const std::string& key, Enum& out, const std::vector<std::pair<std::string, Enum>>& names) {
+    if (const json* value = find(key)) {
+      std::string expected;
+      for (const auto& [name, item] : names) expected += (expected.empty() ? "\"" : ", \"") + name + "\"";
+      if (value->is_string()) {
+        for (const auto& [name, item] : names) {
+          if (name == value->get<std::string>()) {
+            out = item;
+            return;
+          }
+        }
+      }
+      fail(path_of(key), "expected one of " + expected + ", got " + type_name(*value));
+    }
+  }
+
+  // Rejects every member that no reader asked for.
+  void finish() const {
+    for (const auto& [key, value] : object_.items()) {
+      if (known_.count(key) == 0) {
+        std::string known_list;
+        for (const std::string& name : known_) known_list += (known_list.empty() ? "" : ", ") + name;
+        fail(path_of(key), "unknown key \"" + key + "\" (known here: " + known_list + ")");
+      }
+    }
+  }
+
+  double to_number(const json& value, const std::string& path, const Range& range) const {
+    if (!value.is_number()) fail(path, "expected a number" + range.text + ", got " + type_name(value));
+    const double number = value.get<double>();
+    if (!std::isfinite(number)) fail(path, "expected a finite number" + range.text + ", got " + value.dump());
+    const bool below = range.min_open ? number <= range.min : number < range.min;
+    if (below || number > range.max) fail(path, "expected a number" + range.text + ", got " + value.dump());
+    return number;
+  }
+
+  int to_integer(const json& value, const std::string& path, int min, int max) const {
+    const std::string expected = "expected an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
+    if (!value.is_number_integer() && !value.is_number_unsigned()) fail(path, expected + ", got " + type_name(value));
+    const long long number = value.get<long long>();
+    if (number < min || number > max) fail(path, expected + ", got " + value.dump());
+    return static_cast<int>(number);
+  }
+
+ private:
+  const json& object_;
+  std::string path_;
+  const std::string& file_;
+  std::set<std::string> known_;
+};
+
+const std::vector<std::pair<std::string, GridTriangulation>> triangulation_names = {
+    {"regular", GridTriangulation::regular},
+    {"alternating", GridTriangulation::alternating},
+    {"cross", GridTriangulation::cross}};
+const std::vector<std::pair<std::string, ColliderShape>> collider_shape_names = {
+    {"plane", ColliderShape::plane}, {"sphere", ColliderShape::sphere}, {"box", ColliderShape::box}};
+const std::vector<std::pair<std::string, IntegratorKind>> integrator_names = {
+    {"symplectic_euler", IntegratorKind::symplectic_euler}};
+const std::vector<std::string> corner_names = {"bottom_left", "bottom_right", "top_left", "top_right"};
+const std::vector<std::string> edge_names = {"bottom", "top", "left", "right"};
+
+template <typename Enum>
+std::string name_of(Enum item, const std::vector<std::pair<std::string, Enum>>& names) {
+  for (const auto& [name, candidate] : names) {
+    if (candidate == item) return name;
+  }
+  return "unknown";
+}
+
+constexpr int max_grid_resolution = 4096;
+constexpr int max_frames = 10'000'000;
+
+void read_spring(ObjectReader& springs, const std::string& kind, SpringParams& params, const std::string& file) {
+  if (const json* value = springs.find(kind)) {
+    ObjectReader spring(*value, springs.path_of(kind), file);
+    spring.number("stiffness", params.stiffness, non_negative);
+    spring.number("damping", params.damping, non_negative);
+    spring.finish();
+  }
+}
+
+// A list of names, each from `allowed`.
+void read_names(ObjectReader& reader, const std::string& key, std::vector<std::string>& out,
+                const std::vector<std::string>& allowed) {
+  if (const json* value = reader.find(key)) {
+    const std::string path = reader.path_of(key);
+    if (!value->is_array()) reader.fail(path, "expected an array of strings, got " + type_name(*value));
+    std::string expected;
+    for (const std::string& name : allowed) expected += (expected.empty() ? "\"" : ", \"") + name + "\"";
+    out.clear();
+    for (size_t k = 0; k < value->size(); ++k) {
+      const json& item = (*value)[k];
+      if (!item.is_string() || std::find(allowed.begin(), allowed.end(), item.get<std::string>()) == allowed.end()) {
+        reader.fail(path + "/" + std::to_string(k), "expected one of " + expected + ", got " + type_name(item));
+      }
+      out.push_back(item.get<std::string>());
+    }
+  }
+}
+
+ClothDesc read_cloth(const json& value, const std::string& path, const std::string& file) {
+  ClothDesc cloth;
+  ObjectReader reader(value, path, file);
+  reader.string("name", cloth.name);
+  if (reader.has("grid") && reader.has("obj")) {
+    reader.fail(reader.path_of("obj"), "a cloth takes either \"grid\" or \"obj\", not both");
+  }
+  if (const json* grid_value = reader.find("grid")) {
+    ObjectReader grid(*grid_value, reader.path_of("grid"), file);
+    grid.pair("size", cloth.grid_width, cloth.grid_height, positive);
+    grid.integer_pair("resolution", cloth.grid_nx, cloth.grid_ny, 2, max_grid_resolution);
+    grid.enumeration("triangulation", cloth.triangulation, triangulation_names);
+    grid.finish();
+  }
+  reader.string("obj", cloth.obj_file);
+  if (reader.has("obj") && cloth.obj_file.empty()) reader.fail(reader.path_of("obj"), "expected a file name");
+  if (const json* transform_value = reader.find("transform")) {
+    ObjectReader transform(*transform_value, reader.path_of("transform"), file);
+    transform.vec3("translation", cloth.translation);
+    transform.vec3("rotation_degrees", cloth.rotation_degrees);
+    transform.number("scale", cloth.scale, positive);
+    transform.finish();
+  }
+  reader.number("density", cloth.density, positive);
+  reader.number("mass", cloth.mass, non_negative);
+  if (const json* springs_value = reader.find("springs")) {
+    ObjectReader springs(*springs_value, reader.path_of("springs"), file);
+    read_spring(springs, "structural", cloth.structural, file);
+    read_spring(springs, "shear", cloth.shear, file);
+    read_spring(springs, "bend", cloth.bend, file);
+    springs.finish();
+  }
+  reader.number("thickness", cloth.thickness, positive);
+  if (const json* pins_value = reader.find("pins")) {
+    ObjectReader pins(*pins_value, reader.path_of("pins"), file);
+    if (const json* vertices = pins.find("vertices")) {
+      const std::string vertices_path = pins.path_of("vertices");
+      if (!vertices->is_array()) pins.fail(vertices_path, "expected an array of vertex indices");
+      for (size_t k = 0; k < vertices->size(); ++k) {
+        cloth.pin_vertices.push_back(
+            pins.to_integer((*vertices)[k], vertices_path + "/" + std::to_string(k), 0, 1 << 30));
+      }
+    }
+    read_names(pins, "corners", cloth.pin_corners, corner_names);
+    read_names(pins, "edges", cloth.pin_edges, edge_names);
+    pins.finish();
+    if (!cloth.obj_file.empty() && (!cloth.pin_corners.empty() || !cloth.pin_edges.empty())) {
+      pins.fail(pins.path_of(cloth.pin_corners.empty() ? "edges" : "corners"),
+                "named corners and edges exist only on grid cloths; pin an OBJ cloth by \"vertices\"");
+    }
+  }
+  reader.finish();
+  return cloth;
+}
+
+Collider read_collider(const json& value, const std::string& path, const std::string& file) {
+  Collider collider;
+  ObjectReader reader(value, path, file);
+  if (!reader.has("type")) reader.fail(path, "missing \"type\": expected one of \"plane\", \"sphere\", \"box\"");
+  reader.enumeration("type", collider.shape, collider_shape_names);
+  reader.string("name", collider.name);
+  if (collider.name.empty()) collider.name = to_string(collider.shape);
+  reader.number("friction", collider.friction, non_negative);
+  switch (collider.shape) {
+    case ColliderShape::plane: {
+      reader.vec3("point", collider.center);
+      reader.vec3("normal", collider.normal);
+      const double length = collider.normal.norm();
+      if (length < 1e-12) reader.fail(reader.path_of("normal"), "expected a non-zero vector");
+      collider.normal /= length;
+      break;
+    }
+    case ColliderShape::sphere:
+      reader.vec3("center", collider.center);
+      reader.number("radius", collider.radius, positive);
+      break;
+    case ColliderShape::box:
+      reader.vec3("center", collider.center);
+      reader.vec3("half_extents", collider.half_extents);
+      for (int k = 0; k < 3; ++k) {
+        if (!(collider.half_extents[k] > 0.0)) {
+          reader.fail(reader.path_of("half_extents") + "/" + std::to_string(k), "expected a number > 0");
+        }
+      }
+      break;
+  }
+  reader.finish();
+  return collider;
+}
+
+json to_json(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+// Splits "a.b.0.c" or "/a/b/0/c" into tokens.
+std::vector<std::string> split_path(const std::string& path) {
+  std::vector<std::string> tokens;
+  const char separator = !path.empty() && path[0] == '/' ? '/' : '.';
+  std::string token;
+  std::istringstream stream(separator == '/' ? path.substr(1) : path);
+  while (std::getline(stream, token, separator)) tokens.push_back(token);
+  return tokens;
+}
+
+}  // namespace
+
+SceneDesc parse_scene(const json& document, const std::string& file) {
+  SceneDesc scene;
+  scene.source_file = file;
+  ObjectReader reader(document, "", file);
+  reader.string("name", scene.name);
+  reader.vec3("gravity", scene.gravity);
+  if (const json* solver_value = reader.find("solver")) {
+    ObjectReader solver(*solver_value, "/solver", file);
+    solver.enumeration("integrator", scene.integrator, integrator_names);
+    solver.number("time_step", scene.time_step, positive);
+    solver.integer("substeps", scene.substeps, 1, 100000);
+    solver.finish();
+  }
+  reader.number("fps", scene.fps, positive);
+  reader.integer("frames", scene.frames, 0, max_frames);
+  if (const json* cloths = reader.find("cloths")) {
+    if (!cloths->is_array()) reader.fail("/cloths", "expected an array of cloths, got " + type_name(*cloths));
+    for (size_t k = 0; k < cloths->size(); ++k) {
+      scene.cloths.push_back(read_cloth((*cloths)[k], "/cloths/" + std::to_string(k), file));
+    }
+  }
+  if (const json* colliders = reader.find("colliders")) {
+    if (!colliders->is_array()) {
+      reader.fail("/colliders", "expected an array of colliders, got " + type_name(*colliders));
+    }
+    for (size_t k = 0; k < colliders->size(); ++k) {
+      scene.colliders.push_back(read_collider((*colliders)[k], "/colliders/" + std::to_string(k), file));
+    }
+  }
+  reader.finish();
+  return scene;
+}
+
+void apply_override(json& document, const std::string& assignment, const std::string& file) {
+  const size_t equals = assignment.find('=');
+  if (equals == std::string::npos || equals == 0) {
+    throw SceneError(file, "", "--set \"" + assignment + "\": expected path=value, e.g. solver.time_step=0.001");
+  }
+  const std::vector<std::string> tokens = split_path(assignment.substr(0, equals));
+  const std::string text = assignment.substr(equals + 1);
+  // The value is JSON when it parses as JSON, otherwise a plain string (--set solver.integrator=midpoint).
+  json value = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (value.is_discarded()) value = text;
+
+  json* node = &document;
+  std::string path;
+  for (size_t k = 0; k < tokens.size(); ++k) {
+    const std::string& token = tokens[k];
+    if (token.empty()) throw SceneError(file, path, "--set \"" + assignment + "\": empty path component");
+    const bool last = k + 1 == tokens.size();
+    if (node->is_array()) {
+      const bool numeric = token.find_first_not_of("0123456789") == std::string::npos;
+      const size_t index = numeric ? std::stoul(token) : 0;
+      if (!numeric || index >= node->size()) {
+        throw SceneError(file, path + "/" + token,
+                         "--set: expected an index below " + std::to_string(node->size()) + " into this array");
+      }
+      node = &(*node)[index];
+    } else {
+      if (node->is_null()) *node = json::object();
+      if (!node->is_object()) {
+        throw SceneError(file, path, "--set: cannot descend into " + type_name(*node) + " with \"" + token + "\"");
+      }
+      if (!last && !node->contains(token)) (*node)[token] = json::object();
+      node = &(*node)[token];
+    }
+    path += "/" + token;
+  }
+  *node = std::move(value);
+}
+
+SceneDesc load_scene_file(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw SceneError(path, "", "cannot open the scene file");
+  json document = json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (document.is_discarded()) {
+    // Parse again with exceptions to get nlohmann's message, which has the line and column.
+    in.clear();
+    in.seekg(0);
+    try {
+      document = json::parse(in);
+    } catch (const json::parse_error& error) {
+      std::string message = error.what();
+      const size_t detail = message.find("parse error");
+      throw SceneError(path, "", "invalid JSON: " + (detail == std::string::npos ? message : message.substr(detail)));
+    }
+  }
+  for (const std::string& assignment : overrides) apply_override(document, assignment, path);
+  return parse_scene(document, path);
+}
+
+json scene_to_json(const SceneDesc& scene) {
+  json document;
+  document["name"] = scene.name;
+  document["gravity"] = to_json(scene.gravity);
+  document["solver"] = {{"integrator", name_of(scene.integrator, integrator_names)},
+                        {"time_step", scene.time_step},
+                        {"substeps", scene.substeps}};
+  document["fps"] = scene.fps;
+  document["frames"] = scene.frames;
+  document["cloths"] = json::array();
+  for (const ClothDesc& cloth : scene.cloths) {
+    json item;
+    item["name"] = cloth.name;
+    if (cloth.obj_file.empty()) {
+      item["grid"] = {{"size", {cloth.grid_width, cloth.grid_height}},
+                      {"resolution", {cloth.grid_nx, cloth.grid_ny}},
+                      {"triangulation", name_of(cloth.triangulation, triangulation_names)}};
+    } else {
+      item["obj"] = cloth.obj_file;
+    }
+    item["transform"] = {{"translation", to_json(cloth.translation)},
+                         {"rotation_degrees", to_json(cloth.rotation_degrees)},
+                         {"scale", cloth.scale}};
+    item["density"] = cloth.density;
+    item["mass"] = cloth.mass;
+    const auto spring = [](const SpringParams& p) { return json{{"stiffness", p.stiffness}, {"damping", p.damping}}; };
+    item["springs"] = {{"structural", spring(cloth.structural)},
+                       {"shear", spring(cloth.shear)},
+                       {"bend", spring(cloth.bend)}};
+    item["thickness"] = cloth.thickness;
+    item["pins"] = {{"vertices", cloth.pin_vertices}, {"corners", cloth.pin_corners}, {"edges", cloth.pin_edges}};
+    document["cloths"].push_back(item);
+  }
+  document["colliders"] = json::array();
+  for (const Collider& collider : scene.colliders) {
+    json item = {{"type", to_string(collider.shape)}, {"name", collider.name}, {"friction", collider.friction}};
+    switch (collider.shape) {
+      case ColliderShape::plane:
+        item["point"] = to_json(collider.center);
+        item["normal"] = to_json(collider.normal);
+        break;
+      case ColliderShape::sphere:
+        item["center"] = to_json(collider.center);
+        item["radius"] = collider.radius;
+        break;
+      case ColliderShape::box:
+        item["center"] = to_json(collider.center);
+        item["half_extents"] = to_json(collider.half_extents);
+        break;
+    }
+    document["colliders"].push_back(item);
+  }
+  return document;
+}
+
+}  // namespace weft

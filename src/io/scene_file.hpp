@@ -1,0 +1,27 @@
+#pragma once
+// Scene files: JSON read into a SceneDesc with every field checked, "--set" overrides, and
+// the resolved scene written back out. docs/scenes.md documents the format.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sim/scene_desc.hpp"
+
+namespace weft {
+
+// Reads a scene document. `file` names it in errors. Unknown keys, wrong types and values out
+// of range throw SceneError with the JSON pointer of the offending field.
+SceneDesc parse_scene(const nlohmann::json& document, const std::string& file);
+
+// Reads the file, applies overrides of the form "path=value" (path: dots or a JSON pointer,
+// value: JSON, or a bare string), then parses. Throws SceneError.
+SceneDesc load_scene_file(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// Applies one "path=value" override to a document; throws SceneError naming `file`.
+void apply_override(nlohmann::json& document, const std::string& assignment, const std::string& file);
+
+// The scene with every field written out (defaults included); parse_scene reads it back.
+nlohmann::json scene_to_json(const SceneDesc& scene);
+
+}  // namespace weft

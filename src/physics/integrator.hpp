@@ -1,0 +1,13 @@
+#pragma once
+// Which time integrator advances the cloth state.
+#include <string>
+
+namespace weft {
+
+enum class IntegratorKind { symplectic_euler };
+
+const char* to_string(IntegratorKind kind);
+// Parses an integrator name; returns false if it is unknown.
+bool integrator_from_string(const std::string& name, IntegratorKind& kind);
+
+}  // namespace weft

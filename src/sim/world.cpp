@@ -1,0 +1,92 @@
+#include "sim/world.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "collision/placeholder_contact.hpp"
+#include "physics/gravity.hpp"
+#include "physics/symplectic_euler.hpp"
+
+namespace weft {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double milliseconds_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+void World::add_cloth(Cloth cloth) { cloths_.push_back(std::move(cloth)); }
+
+void World::add_collider(Collider collider) { colliders_.push_back(std::move(collider)); }
+
+// One time step, as the pipeline in DESIGN.md: colliders, integrator, collisions, stats.
+void World::step() {
+  const auto step_start = Clock::now();
+  StepStats stats;
+  const int substeps = std::max(1, settings.substeps);
+  const double h = settings.time_step / substeps;
+  for (int substep = 0; substep < substeps; ++substep) {
+    auto phase_start = Clock::now();
+    move_colliders(h);
+    stats.move_colliders_ms += milliseconds_since(phase_start);
+
+    phase_start = Clock::now();
+    integrate(h);
+    stats.integrate_ms += milliseconds_since(phase_start);
+
+    phase_start = Clock::now();
+    stats.contacts = resolve_collisions(h);
+    stats.collisions_ms += milliseconds_since(phase_start);
+
+    time_ += h;
+  }
+  stats.total_ms = milliseconds_since(step_start);
+  stats_ = stats;
+}
+
+// Colliders are static until the collision issue adds kinematic ones.
+void World::move_colliders(double /*h*/) {}
+
+void World::integrate(double h) {
+  for (Cloth& cloth : cloths_) {
+    switch (settings.integrator) {
+      case IntegratorKind::symplectic_euler:
+        symplectic_euler_step(cloth, settings.gravity, h);
+        break;
+    }
+  }
+}
+
+int World::resolve_collisions(double h) {
+  int contacts = 0;
+  for (Cloth& cloth : cloths_) {
+    contacts += resolve_placeholder_contacts(cloth, colliders_, h);
+  }
+  return contacts;
+}
+
+Energies World::energies() const {
+  Energies energies;
+  for (const Cloth& cloth : cloths_) {
+    const ClothState& state = cloth.state;
+    energies.kinetic += 0.5 * (state.v.colwise().squaredNorm() * cloth.model.mass)(0);
+    energies.gravitational += gravitational_energy(cloth.model.mass, settings.gravity, state.x);
+    energies.elastic += spring_energy(cloth.model.springs, state.x);
+  }
+  return energies;
+}
+
+FrameSchedule frame_schedule(double fps, double max_time_step) {
+  const double frame_time = 1.0 / fps;
+  FrameSchedule schedule;
+  // The small tolerance keeps an exact divisor (1/600 into 1/60) from rounding up to one more step.
+  schedule.steps_per_frame = std::max(1, static_cast<int>(std::ceil(frame_time / max_time_step - 1e-9)));
+  schedule.time_step = frame_time / schedule.steps_per_frame;
+  return schedule;
+}
+
+}  // namespace weft

@@ -1,0 +1,182 @@
+// The headless runner as a user runs it: frames tinyobjloader reads back, stats and run.json,
+// exit codes for bad input, divergence and unwritable output, and Ctrl-C leaving whole frames.
+#include <gtest/gtest.h>
+#include <tiny_obj_loader.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "support/run_program.hpp"
+#include "support/temp_dir.hpp"
+
+namespace weft {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::run_program;
+using testing::TempDir;
+
+const std::string weft_program = WEFT_EXECUTABLE;
+const std::string source_dir = WEFT_SOURCE_DIR;
+
+struct ObjCounts {
+  bool ok = false;
+  size_t vertices = 0, normals = 0, texcoords = 0, triangles = 0;
+};
+
+ObjCounts read_back(const std::string& path) {
+  tinyobj::ObjReader reader;
+  ObjCounts counts;
+  if (!reader.ParseFromFile(path)) return counts;
+  counts.ok = true;
+  counts.vertices = reader.GetAttrib().vertices.size() / 3;
+  counts.normals = reader.GetAttrib().normals.size() / 3;
+  counts.texcoords = reader.GetAttrib().texcoords.size() / 2;
+  for (const auto& shape : reader.GetShapes()) counts.triangles += shape.mesh.num_face_vertices.size();
+  return counts;
+}
+
+int count_lines(const std::string& path) {
+  std::ifstream in(path);
+  int lines = 0;
+  for (std::string line; std::getline(in, line);) ++lines;
+  return lines;
+}
+
+bool has_temporary_files(const fs::path& dir) {
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.path().filename().string().find(".tmp.") != std::string::npos) return true;
+  }
+  return false;
+}
+
+TEST(HeadlessRunner, WritesFramesStatsAndRunJson) {
+  TempDir dir("weft_headless");
+  const fs::path out = dir.path() / "drape";
+  const auto result = run_program({weft_program, "--headless", source_dir + "/scenes/drape_sphere.json", "--out",
+                                   out.string(), "--frames", "5", "--set", "cloths.0.grid.resolution=[10,12]"},
+                                  dir.file("log.txt"));
+  ASSERT_EQ(result.exit_code, 0) << result.error_text;
+  for (int frame = 0; frame <= 5; ++frame) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04d.obj", frame);
+    const ObjCounts counts = read_back((out / name).string());
+    ASSERT_TRUE(counts.ok) << name;
+    EXPECT_EQ(counts.vertices, 120u) << name;
+    EXPECT_EQ(counts.normals, 120u) << name;
+    EXPECT_EQ(counts.texcoords, 120u) << name;
+    EXPECT_EQ(counts.triangles, 2u * 9 * 11) << name;
+  }
+  EXPECT_FALSE(fs::exists(out / "frame_0006.obj"));
+  EXPECT_EQ(count_lines((out / "stats.csv").string()), 1 + 6);
+  std::ifstream run_file(out / "run.json");
+  const auto run = nlohmann::json::parse(run_file);
+  EXPECT_EQ(run["status"], "complete");
+  EXPECT_EQ(run["frames_written"], 6);
+  EXPECT_EQ(run["scene"]["frames"], 5);
+  EXPECT_EQ(run["scene"]["cloths"][0]["grid"]["resolution"], nlohmann::json::array({10, 12}));
+  EXPECT_FALSE(run["git_commit"].get<std::string>().empty());
+  EXPECT_FALSE(has_temporary_files(out));
+}
+
+TEST(HeadlessRunner, BadInputExitsWithCodeTwoAndWritesNothing) {
+  TempDir dir("weft_bad_input");
+  const std::string scene = dir.file("bad.json");
+  std::ofstream(scene) << R"({"cloths": [{"grid": {"size": [1, 1]}, "colour": "red"}]})";
+  const fs::path out = dir.path() / "out";
+  auto result = run_program({weft_program, "--headless", scene, "--out", out.string()}, dir.file("log1.txt"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.error_text.find("bad.json: /cloths/0/colour: unknown key"), std::string::npos)
+      << result.error_text;
+  EXPECT_FALSE(fs::exists(out));
+
+  result = run_program({weft_program, "--headless", source_dir + "/scenes/default.json", "--out", out.string(),
+                        "--set", "solver.time_step=-0.001"},
+                       dir.file("log2.txt"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.error_text.find("/solver/time_step: expected a number > 0, got -0.001"), std::string::npos)
+      << result.error_text;
+
+  result = run_program({weft_program, "--headless", dir.file("nowhere.json"), "--out", out.string()},
+                       dir.file("log3.txt"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.error_text.find("nowhere.json"), std::string::npos) << result.error_text;
+
+  result = run_program({weft_program, "--headless", source_dir + "/scenes/default.json"}, dir.file("log4.txt"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.error_text.find("--out"), std::string::npos) << result.error_text;
+
+  result = run_program({weft_program, "--frames", "many"}, dir.file("log5.txt"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(HeadlessRunner, UnwritableOutputIsAClearError) {
+  TempDir dir("weft_unwritable");
+  const std::string blocker = dir.file("a_file");
+  std::ofstream(blocker) << "not a folder";
+  const auto result = run_program({weft_program, "--headless", source_dir + "/scenes/default.json", "--out",
+                                   blocker + "/out", "--frames", "2", "--quiet"},
+                                  dir.file("log.txt"));
+  EXPECT_EQ(result.exit_code, 4);
+  EXPECT_NE(result.error_text.find("a_file/out"), std::string::npos) << result.error_text;
+}
+
+TEST(HeadlessRunner, DivergenceStopsWithCodeThreeNamingTheVertex) {
+  TempDir dir("weft_diverge");
+  const fs::path out = dir.path() / "out";
+  const auto result = run_program({weft_program, "--headless", source_dir + "/scenes/default.json", "--out",
+                                   out.string(), "--frames", "50", "--quiet", "--set",
+                                   "cloths.0.springs.structural.stiffness=1e12", "--set", "solver.time_step=0.01"},
+                                  dir.file("log.txt"));
+  EXPECT_EQ(result.exit_code, 3) << result.error_text;
+  EXPECT_NE(result.error_text.find("diverged in frame"), std::string::npos) << result.error_text;
+  EXPECT_NE(result.error_text.find("vertex"), std::string::npos) << result.error_text;
+  EXPECT_TRUE(read_back((out / "frame_0000.obj").string()).ok);
+}
+
+TEST(HeadlessRunner, InterruptLeavesEveryWrittenFrameIntact) {
+  TempDir dir("weft_interrupt");
+  const fs::path out = dir.path() / "out";
+  const std::string log = dir.file("log.txt");
+  const pid_t pid = testing::start_program({weft_program, "--headless", source_dir + "/scenes/default.json",
+                                            "--out", out.string(), "--frames", "100000", "--set",
+                                            "cloths.0.grid.resolution=[48,48]"},
+                                           log);
+  ASSERT_GT(pid, 0);
+  // Wait until a few frames exist, then press Ctrl-C.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!fs::exists(out / "frame_000003.obj") && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  kill(pid, SIGINT);
+  const auto result = testing::wait_program(pid, log);
+  EXPECT_EQ(result.exit_code, 130) << result.error_text;
+  EXPECT_NE(result.error_text.find("interrupted"), std::string::npos) << result.error_text;
+
+  std::ifstream run_file(out / "run.json");
+  const auto run = nlohmann::json::parse(run_file);
+  EXPECT_EQ(run["status"], "interrupted");
+  const int written = run["frames_written"];
+  EXPECT_GE(written, 4);
+  int frames_on_disk = 0;
+  for (const auto& entry : fs::directory_iterator(out)) {
+    if (entry.path().extension() == ".obj") {
+      ++frames_on_disk;
+      const ObjCounts counts = read_back(entry.path().string());
+      EXPECT_TRUE(counts.ok) << entry.path();
+      EXPECT_EQ(counts.vertices, 48u * 48u) << entry.path();
+    }
+  }
+  EXPECT_EQ(frames_on_disk, written);
+  EXPECT_EQ(count_lines((out / "stats.csv").string()), 1 + written);
+  EXPECT_FALSE(has_temporary_files(out));
+}
+
+}  // namespace
+}  // namespace weft

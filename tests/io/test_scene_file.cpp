@@ -1,0 +1,180 @@
+// Scene files: every error class names the file and the JSON path; overrides; round trip.
+#include "io/scene_file.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "core/error.hpp"
+#include "io/scene_builder.hpp"
+#include "support/temp_dir.hpp"
+
+namespace weft {
+namespace {
+
+using nlohmann::json;
+
+const char* minimal_scene = R"({
+  "name": "test",
+  "solver": {"time_step": 0.001},
+  "cloths": [{"grid": {"size": [1, 1], "resolution": [4, 4]}}],
+  "colliders": [{"type": "sphere", "center": [0, -1, 0], "radius": 0.5}]
+})";
+
+// Parses `text` after applying `overrides`, expecting a SceneError at `path` whose message contains `words`.
+void expect_scene_error(const std::string& text, const std::vector<std::string>& overrides,
+                        const std::string& path, const std::string& words) {
+  json document = json::parse(text);
+  try {
+    for (const auto& assignment : overrides) apply_override(document, assignment, "scene.json");
+    const SceneDesc scene = parse_scene(document, "scene.json");
+    build_world(scene);
+    FAIL() << "expected a SceneError at " << path;
+  } catch (const SceneError& error) {
+    EXPECT_EQ(error.file(), "scene.json");
+    EXPECT_EQ(error.json_path(), path) << error.what();
+    EXPECT_NE(std::string(error.what()).find(words), std::string::npos) << error.what();
+    EXPECT_EQ(std::string(error.what()).rfind("scene.json: " + path, 0), 0u) << error.what();
+  }
+}
+
+TEST(SceneFile, MinimalSceneTakesDefaultsFromTheStructs) {
+  const SceneDesc scene = parse_scene(json::parse(minimal_scene), "scene.json");
+  const SceneDesc defaults;
+  const ClothDesc cloth_defaults;
+  EXPECT_EQ(scene.name, "test");
+  EXPECT_DOUBLE_EQ(scene.time_step, 0.001);
+  EXPECT_EQ(scene.substeps, defaults.substeps);
+  EXPECT_EQ(scene.fps, defaults.fps);
+  ASSERT_EQ(scene.cloths.size(), 1u);
+  EXPECT_EQ(scene.cloths[0].grid_nx, 4);
+  EXPECT_DOUBLE_EQ(scene.cloths[0].density, cloth_defaults.density);
+  EXPECT_DOUBLE_EQ(scene.cloths[0].structural.stiffness, cloth_defaults.structural.stiffness);
+  ASSERT_EQ(scene.colliders.size(), 1u);
+  EXPECT_EQ(scene.colliders[0].shape, ColliderShape::sphere);
+  EXPECT_DOUBLE_EQ(scene.colliders[0].radius, 0.5);
+}
+
+TEST(SceneFile, UnknownKeysAreRejectedAtEveryLevel) {
+  expect_scene_error(minimal_scene, {"colour=1"}, "/colour", "unknown key \"colour\"");
+  expect_scene_error(minimal_scene, {"solver.timestep=0.1"}, "/solver/timestep", "unknown key");
+  expect_scene_error(minimal_scene, {"cloths.0.grid.rows=3"}, "/cloths/0/grid/rows", "unknown key");
+  expect_scene_error(minimal_scene, {"colliders.0.half_extents=[1,1,1]"}, "/colliders/0/half_extents",
+                     "unknown key");
+}
+
+TEST(SceneFile, WrongTypesNameWhatWasExpected) {
+  expect_scene_error(minimal_scene, {"solver.time_step=\"fast\""}, "/solver/time_step", "expected a number > 0");
+  expect_scene_error(minimal_scene, {"gravity=[0,-9.81]"}, "/gravity", "expected an array of 3 numbers");
+  expect_scene_error(minimal_scene, {"cloths.0.grid.resolution=[4,4.5]"}, "/cloths/0/grid/resolution/1",
+                     "expected an integer");
+  expect_scene_error(minimal_scene, {"solver.integrator=runge_kutta"}, "/solver/integrator",
+                     "expected one of \"symplectic_euler\"");
+  expect_scene_error(minimal_scene, {"cloths={}"}, "/cloths", "expected an array of cloths");
+  expect_scene_error(minimal_scene, {"colliders.0.type=cone"}, "/colliders/0/type", "expected one of");
+}
+
+TEST(SceneFile, OutOfRangeValuesAreRejected) {
+  expect_scene_error(minimal_scene, {"solver.time_step=0"}, "/solver/time_step", "expected a number > 0");
+  expect_scene_error(minimal_scene, {"solver.time_step=-0.01"}, "/solver/time_step", "> 0");
+  expect_scene_error(minimal_scene, {"cloths.0.mass=-1"}, "/cloths/0/mass", "expected a number >= 0");
+  expect_scene_error(minimal_scene, {"cloths.0.density=0"}, "/cloths/0/density", "> 0");
+  expect_scene_error(minimal_scene, {"cloths.0.grid.resolution=[1,4]"}, "/cloths/0/grid/resolution/0",
+                     "expected an integer in [2, 4096]");
+  expect_scene_error(minimal_scene, {"fps=0"}, "/fps", "> 0");
+  expect_scene_error(minimal_scene, {"frames=-3"}, "/frames", "expected an integer in [0,");
+  expect_scene_error(minimal_scene, {"colliders.0.radius=0"}, "/colliders/0/radius", "> 0");
+  expect_scene_error(minimal_scene, {"cloths.0.springs.bend.stiffness=-5"}, "/cloths/0/springs/bend/stiffness",
+                     ">= 0");
+  expect_scene_error(minimal_scene, {"cloths.0.pins.vertices=[0,16]"}, "/cloths/0/pins/vertices/1",
+                     "expected a vertex index below 16, got 16");
+  expect_scene_error(minimal_scene, {"cloths.0.pins.corners=[\"middle\"]"}, "/cloths/0/pins/corners/0",
+                     "expected one of");
+}
+
+TEST(SceneFile, NonFiniteNumbersAreRejected) {
+  // JSON has no NaN literal: "nan" on the command line arrives as a string, 1e999 overflows to infinity.
+  expect_scene_error(minimal_scene, {"solver.time_step=nan"}, "/solver/time_step", "expected a number > 0");
+  json document = json::parse(minimal_scene);
+  document["cloths"][0]["thickness"] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(parse_scene(document, "scene.json"), SceneError);
+  document = json::parse(minimal_scene);
+  document["gravity"][1] = std::numeric_limits<double>::infinity();
+  try {
+    parse_scene(document, "scene.json");
+    FAIL() << "infinite gravity accepted";
+  } catch (const SceneError& error) {
+    EXPECT_EQ(error.json_path(), "/gravity/1");
+    EXPECT_NE(std::string(error.what()).find("finite"), std::string::npos) << error.what();
+  }
+}
+
+TEST(SceneFile, MissingObjFileNamesTheObjField) {
+  expect_scene_error(R"({"cloths": [{"obj": "no_such_mesh.obj"}]})", {}, "/cloths/0/obj", "no_such_mesh.obj");
+  expect_scene_error(R"({"cloths": [{"obj": "x.obj", "grid": {}}]})", {}, "/cloths/0/obj", "not both");
+  expect_scene_error(R"({"cloths": [{"obj": "x.obj", "pins": {"corners": ["top_left"]}}]})", {},
+                     "/cloths/0/pins/corners", "only on grid cloths");
+}
+
+TEST(SceneFile, BadOverridesAreReported) {
+  expect_scene_error(minimal_scene, {"cloths.3.name=x"}, "/cloths/3", "expected an index below 1");
+  expect_scene_error(minimal_scene, {"name.first=x"}, "/name", "cannot descend");
+  json document = json::parse(minimal_scene);
+  EXPECT_THROW(apply_override(document, "no_equals_sign", "scene.json"), SceneError);
+}
+
+TEST(SceneFile, OverridesAcceptDotsPointersJsonAndBareStrings) {
+  json document = json::parse(minimal_scene);
+  apply_override(document, "solver.substeps=4", "scene.json");
+  apply_override(document, "/cloths/0/grid/resolution=[8, 6]", "scene.json");
+  apply_override(document, "name=sweep_case_1", "scene.json");
+  apply_override(document, "solver.integrator=symplectic_euler", "scene.json");
+  const SceneDesc scene = parse_scene(document, "scene.json");
+  EXPECT_EQ(scene.substeps, 4);
+  EXPECT_EQ(scene.cloths[0].grid_nx, 8);
+  EXPECT_EQ(scene.cloths[0].grid_ny, 6);
+  EXPECT_EQ(scene.name, "sweep_case_1");
+}
+
+TEST(SceneFile, ResolvedSceneRoundTrips) {
+  json document = json::parse(minimal_scene);
+  apply_override(document, "cloths.0.pins.corners=[\"top_left\"]", "scene.json");
+  const SceneDesc scene = parse_scene(document, "scene.json");
+  const json written = scene_to_json(scene);
+  const SceneDesc again = parse_scene(written, "scene.json");
+  EXPECT_EQ(scene_to_json(again), written);
+  EXPECT_EQ(again.cloths[0].pin_corners, std::vector<std::string>{"top_left"});
+}
+
+TEST(SceneFile, FileErrorsNameTheFile) {
+  testing::TempDir dir;
+  try {
+    load_scene_file(dir.file("missing.json"));
+    FAIL();
+  } catch (const SceneError& error) {
+    EXPECT_NE(std::string(error.what()).find("missing.json"), std::string::npos);
+  }
+  const std::string broken = dir.file("broken.json");
+  std::ofstream(broken) << "{\n  \"name\": \"x\",\n  \"fps\": \n}\n";
+  try {
+    load_scene_file(broken);
+    FAIL();
+  } catch (const SceneError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("broken.json"), std::string::npos) << message;
+    EXPECT_NE(message.find("line 4"), std::string::npos) << message;
+  }
+}
+
+TEST(SceneFile, ShippedScenesLoadAndBuild) {
+  for (const char* name : {"default", "drape_sphere"}) {
+    const std::string path = std::string(WEFT_SOURCE_DIR) + "/scenes/" + name + ".json";
+    const SceneDesc scene = load_scene_file(path);
+    const World world = build_world(scene);
+    EXPECT_GE(world.cloths().size(), 1u) << name;
+    EXPECT_GE(world.colliders().size(), 1u) << name;
+  }
+}
+
+}  // namespace
+}  // namespace weft

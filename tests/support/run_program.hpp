@@ -1,0 +1,55 @@
+#pragma once
+// Runs the weft program as a user would and collects its exit code and stderr.
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+extern char** environ;
+
+namespace weft::testing {
+
+struct ProgramResult {
+  int exit_code = -1;      // exit status, or 128 + signal number if killed
+  std::string error_text;  // everything written to stderr
+};
+
+// Starts `arguments` (argv[0] is the program) with stdout and stderr to `log_file`; returns the pid.
+inline pid_t start_program(const std::vector<std::string>& arguments, const std::string& log_file) {
+  std::vector<char*> argv;
+  for (const std::string& argument : arguments) argv.push_back(const_cast<char*>(argument.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  pid_t pid = -1;
+  if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) != 0) pid = -1;
+  posix_spawn_file_actions_destroy(&actions);
+  return pid;
+}
+
+inline ProgramResult wait_program(pid_t pid, const std::string& log_file) {
+  ProgramResult result;
+  int status = 0;
+  if (pid > 0 && waitpid(pid, &status, 0) == pid) {
+    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  }
+  std::ifstream log(log_file);
+  std::stringstream text;
+  text << log.rdbuf();
+  result.error_text = text.str();
+  return result;
+}
+
+inline ProgramResult run_program(const std::vector<std::string>& arguments, const std::string& log_file) {
+  return wait_program(start_program(arguments, log_file), log_file);
+}
+
+}  // namespace weft::testing
