@@ -2,6 +2,7 @@
 // Math vocabulary over Eigen. Per-vertex data is stored as 3 x N column-major matrices, so
 // the coordinates of one vertex are contiguous and x.col(i) is that vertex's position.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace weft {
 
@@ -12,6 +13,8 @@ using Vec3i = Eigen::Vector3i;
 
 using Positions = Eigen::Matrix3Xd;  // one column per vertex (3 x n_vertices)
 using Triangles = Eigen::Matrix3Xi;  // vertex indices, counter-clockwise from the front (3 x n_triangles)
+
+inline constexpr double pi = 3.14159265358979323846;
 
 // Rotation from Euler angles in degrees, applied about x, then y, then z (R = Rz * Ry * Rx).
 Mat3 rotation_from_euler_degrees(const Vec3& degrees);

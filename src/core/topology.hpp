@@ -9,9 +9,10 @@ namespace weft {
 struct MeshTopology {
   Eigen::Matrix2Xi edges;           // unique edges, smaller vertex index first, sorted (2 x n_edges)
   Eigen::Matrix2Xi edge_triangles;  // first two triangles at each edge; -1 where absent (2 x n_edges)
-  Eigen::Matrix3Xi triangle_edges;  // edge index of side k of each triangle, side k joins vertex k and k+1 (3 x n_triangles)
+  Eigen::Matrix3Xi triangle_edges;  // edge of side k of each triangle, from vertex k to k+1 (3 x n_triangles)
   Eigen::Matrix4Xi hinges;          // interior edges: (v0, v1) the shared edge, v2 opposite in the
-                                    // first triangle, v3 opposite in the second (4 x n_hinges)
+                                    // first triangle, v3 opposite in the second (4 x n_hinges);
+                                    // (v0, v1, v2) is the first triangle counter-clockwise
   Eigen::VectorXi hinge_edges;      // edge index of each hinge (n_hinges)
   std::vector<int> boundary_edges;  // edges with exactly one triangle
   std::vector<int> non_manifold_edges;  // edges with three or more triangles (no hinge built)

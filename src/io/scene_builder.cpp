@@ -79,6 +79,7 @@ Cloth build_cloth(const ClothDesc& desc, const SceneDesc& scene, int index) {
   ClothModel model;
   model.name = desc.name;
   model.thickness = desc.thickness;
+  model.mass_damping = desc.mass_damping;
   model.mass = lumped_masses(mesh, desc, scene.source_file, desc.obj_file.empty() ? path + "/grid" : path + "/obj");
 
   SpringStiffness params;

@@ -235,6 +235,7 @@ ClothDesc read_cloth(const json& value, const std::string& path, const std::stri
     springs.finish();
   }
   reader.number("thickness", cloth.thickness, positive);
+  reader.number("mass_damping", cloth.mass_damping, non_negative);
   if (const json* pins_value = reader.find("pins")) {
     ObjectReader pins(*pins_value, reader.path_of("pins"), file);
     if (const json* vertices = pins.find("vertices")) {
@@ -427,6 +428,7 @@ json scene_to_json(const SceneDesc& scene) {
                        {"shear", spring(cloth.shear)},
                        {"bend", spring(cloth.bend)}};
     item["thickness"] = cloth.thickness;
+    item["mass_damping"] = cloth.mass_damping;
     item["pins"] = {{"vertices", cloth.pin_vertices}, {"corners", cloth.pin_corners}, {"edges", cloth.pin_edges}};
     document["cloths"].push_back(item);
   }

@@ -16,6 +16,7 @@ struct ClothModel {
   Eigen::VectorXd inverse_mass;    // 0 for pinned vertices (n_vertices)
   SpringSet springs;
   double thickness = 0.005;        // m
+  double mass_damping = 0.0;       // 1/s, Rayleigh mass damping coefficient (0: off)
   int grid_nx = 0, grid_ny = 0;    // lattice size when made from a grid, else 0
 };
 

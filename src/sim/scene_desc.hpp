@@ -41,6 +41,7 @@ struct ClothDesc {
   SpringParams bend{50.0, 0.05};
 
   double thickness = 0.005;       // m, contact offset from colliders
+  double mass_damping = 0.0;      // 1/s, damps every vertex velocity: f = -c m v
 
   // Pins: vertex indices, named grid corners ("top_left", ...) and grid edges ("top", ...).
   std::vector<int> pin_vertices;

@@ -99,7 +99,7 @@ TEST(SceneFile, NonFiniteNumbersAreRejected) {
   document["cloths"][0]["thickness"] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(parse_scene(document, "scene.json"), SceneError);
   document = json::parse(minimal_scene);
-  document["gravity"][1] = std::numeric_limits<double>::infinity();
+  document["gravity"] = {0.0, std::numeric_limits<double>::infinity(), 0.0};
   try {
     parse_scene(document, "scene.json");
     FAIL() << "infinite gravity accepted";

@@ -46,7 +46,9 @@ TEST(MassSpring, ElasticForceIsMinusEnergyGradientTaylorTest) {
   for (int k = 0; k < 6; ++k) {
     const double a = 1e-2 / (1 << k);
     const double remainder = std::abs(spring_energy(springs, x + a * direction) - energy - a * slope);
-    if (k > 0) EXPECT_NEAR(previous / remainder, 4.0, 0.12) << "halving " << k;
+    if (k > 0) {
+      EXPECT_NEAR(previous / remainder, 4.0, 0.12) << "halving " << k;
+    }
     previous = remainder;
   }
 }

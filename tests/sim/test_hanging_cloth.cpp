@@ -11,12 +11,13 @@ namespace {
 
 World hanging_cloth_world() {
   const auto document = nlohmann::json::parse(R"({
-    "solver": {"time_step": 0.002},
+    "solver": {"time_step": 0.0005},
     "fps": 50,
     "cloths": [{
       "grid": {"size": [1, 1], "resolution": [12, 12]},
       "transform": {"translation": [0, 1, 0], "rotation_degrees": [-90, 0, 0]},
       "density": 0.2,
+      "mass_damping": 0.5,
       "springs": {"structural": {"stiffness": 300, "damping": 0.1},
                   "shear": {"stiffness": 60, "damping": 0.05},
                   "bend": {"stiffness": 5, "damping": 0.01}},
@@ -35,7 +36,7 @@ TEST(HangingCloth, SwingsDownAndComesToRestWithPinsFixed) {
   const double initial_potential = world.energies().gravitational;
 
   double peak_kinetic = 0.0;
-  for (int step = 0; step < 30000 && world.time() < 60.0; ++step) {
+  while (world.time() < 40.0) {
     world.step();
     peak_kinetic = std::max(peak_kinetic, world.energies().kinetic);
   }
