@@ -1,6 +1,7 @@
 #version 330 core
 // Two-sided Blinn-Phong: the back of a triangle gets its own colour and the flipped normal.
 in vec3 v_position;
+in vec3 v_local_position;
 in vec3 v_normal;
 
 uniform vec3 u_eye;          // camera position, world
@@ -9,6 +10,7 @@ uniform vec3 u_front_color;
 uniform vec3 u_back_color;
 uniform float u_shininess;
 uniform float u_specular;
+uniform float u_checker_size;  // > 0: a faint checkerboard of this size in the mesh's own frame
 
 out vec4 frag_color;
 
@@ -19,12 +21,16 @@ void main() {
     n = -n;
     base = u_back_color;
   }
+  if (u_checker_size > 0.0) {
+    ivec3 cell = ivec3(floor(v_local_position / u_checker_size));
+    base *= ((cell.x + cell.y + cell.z) & 1) == 0 ? 1.05 : 0.95;
+  }
   vec3 to_eye = normalize(u_eye - v_position);
   // Key light, a dimmer fill from the eye so nothing facing the camera is black, and ambient.
   float key = max(dot(n, u_light_dir), 0.0);
   float fill = max(dot(n, to_eye), 0.0);
   vec3 half_dir = normalize(u_light_dir + to_eye);
   float highlight = key > 0.0 ? pow(max(dot(n, half_dir), 0.0), u_shininess) : 0.0;
-  vec3 color = base * (0.22 + 0.63 * key + 0.25 * fill) + vec3(u_specular * highlight);
+  vec3 color = base * (0.18 + 0.62 * key + 0.25 * fill) + vec3(u_specular * highlight);
   frag_color = vec4(clamp(color, 0.0, 1.0), 1.0);
 }

@@ -8,11 +8,13 @@ uniform mat4 u_view;
 uniform mat4 u_projection;
 
 out vec3 v_position;
+out vec3 v_local_position;
 out vec3 v_normal;
 
 void main() {
   vec4 world = u_model * vec4(a_position, 1.0);
   v_position = world.xyz;
+  v_local_position = a_position;
   v_normal = mat3(u_model) * a_normal;
   gl_Position = u_projection * u_view * world;
 }

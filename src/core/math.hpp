@@ -11,6 +11,14 @@ using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 using Vec3i = Eigen::Vector3i;
 
+// Per-element stacks of vertex coordinates: 2 vertices (springs), 3 (triangles), 4 (hinges).
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Vector9d = Eigen::Matrix<double, 9, 1>;
+using Vector12d = Eigen::Matrix<double, 12, 1>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Matrix9d = Eigen::Matrix<double, 9, 9>;
+using Matrix12d = Eigen::Matrix<double, 12, 12>;
+
 using Positions = Eigen::Matrix3Xd;  // one column per vertex (3 x n_vertices)
 using Triangles = Eigen::Matrix3Xi;  // vertex indices, counter-clockwise from the front (3 x n_triangles)
 

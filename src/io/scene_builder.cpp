@@ -123,6 +123,8 @@ World build_world(const SceneDesc& scene) {
   world.settings.time_step = frame_schedule(scene.fps, scene.time_step).time_step;
   world.settings.substeps = scene.substeps;
   world.settings.gravity = scene.gravity;
+  world.settings.implicit = scene.implicit;
+  world.settings.adaptive = scene.adaptive;
   for (size_t k = 0; k < scene.cloths.size(); ++k) {
     world.add_cloth(build_cloth(scene.cloths[k], scene, static_cast<int>(k)));
   }

@@ -100,6 +100,13 @@ class ObjectReader {
     }
   }
 
+  void boolean(const std::string& key, bool& out) {
+    if (const json* value = find(key)) {
+      if (!value->is_boolean()) fail(path_of(key), "expected true or false, got " + type_name(*value));
+      out = value->get<bool>();
+    }
+  }
+
   template <typename Enum>
   void enumeration(const std::string& key, Enum& out, const std::vector<std::pair<std::string, Enum>>& names) {
     if (const json* value = find(key)) {
@@ -159,7 +166,11 @@ const std::vector<std::pair<std::string, GridTriangulation>> triangulation_names
 const std::vector<std::pair<std::string, ColliderShape>> collider_shape_names = {
     {"plane", ColliderShape::plane}, {"sphere", ColliderShape::sphere}, {"box", ColliderShape::box}};
 const std::vector<std::pair<std::string, IntegratorKind>> integrator_names = {
-    {"symplectic_euler", IntegratorKind::symplectic_euler}};
+    {"symplectic_euler", IntegratorKind::symplectic_euler},
+    {"midpoint", IntegratorKind::midpoint},
+    {"implicit_euler", IntegratorKind::implicit_euler}};
+const std::vector<std::pair<std::string, LinearSolverKind>> linear_solver_names = {
+    {"conjugate_gradient", LinearSolverKind::conjugate_gradient}, {"cholesky", LinearSolverKind::cholesky}};
 const std::vector<std::string> corner_names = {"bottom_left", "bottom_right", "top_left", "top_right"};
 const std::vector<std::string> edge_names = {"bottom", "top", "left", "right"};
 
@@ -318,6 +329,26 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
     solver.enumeration("integrator", scene.integrator, integrator_names);
     solver.number("time_step", scene.time_step, positive);
     solver.integer("substeps", scene.substeps, 1, 100000);
+    if (const json* newton_value = solver.find("newton")) {
+      ObjectReader newton(*newton_value, "/solver/newton", file);
+      newton.number("tolerance", scene.implicit.newton_tolerance, positive);
+      newton.integer("max_iterations", scene.implicit.max_newton_iterations, 1, 10000);
+      newton.enumeration("linear_solver", scene.implicit.linear_solver, linear_solver_names);
+      newton.number("cg_tolerance", scene.implicit.cg_tolerance, positive);
+      newton.integer("max_cg_iterations", scene.implicit.max_cg_iterations, 1, 1000000);
+      newton.finish();
+    }
+    if (const json* adaptive_value = solver.find("adaptive")) {
+      ObjectReader adaptive(*adaptive_value, "/solver/adaptive", file);
+      adaptive.boolean("enabled", scene.adaptive.enabled);
+      adaptive.number("tolerance", scene.adaptive.tolerance, positive);
+      adaptive.number("min_step", scene.adaptive.h_min, positive);
+      adaptive.number("max_step", scene.adaptive.h_max, positive);
+      if (scene.adaptive.h_min > scene.adaptive.h_max) {
+        adaptive.fail("/solver/adaptive/min_step", "expected min_step <= max_step");
+      }
+      adaptive.finish();
+    }
     solver.finish();
   }
   reader.number("fps", scene.fps, positive);
@@ -404,7 +435,18 @@ json scene_to_json(const SceneDesc& scene) {
   document["gravity"] = to_json(scene.gravity);
   document["solver"] = {{"integrator", name_of(scene.integrator, integrator_names)},
                         {"time_step", scene.time_step},
-                        {"substeps", scene.substeps}};
+                        {"substeps", scene.substeps},
+                        {"newton",
+                         {{"tolerance", scene.implicit.newton_tolerance},
+                          {"max_iterations", scene.implicit.max_newton_iterations},
+                          {"linear_solver", name_of(scene.implicit.linear_solver, linear_solver_names)},
+                          {"cg_tolerance", scene.implicit.cg_tolerance},
+                          {"max_cg_iterations", scene.implicit.max_cg_iterations}}},
+                        {"adaptive",
+                         {{"enabled", scene.adaptive.enabled},
+                          {"tolerance", scene.adaptive.tolerance},
+                          {"min_step", scene.adaptive.h_min},
+                          {"max_step", scene.adaptive.h_max}}}};
   document["fps"] = scene.fps;
   document["frames"] = scene.frames;
   document["cloths"] = json::array();

@@ -6,14 +6,21 @@ const char* to_string(IntegratorKind kind) {
   switch (kind) {
     case IntegratorKind::symplectic_euler:
       return "symplectic_euler";
+    case IntegratorKind::midpoint:
+      return "midpoint";
+    case IntegratorKind::implicit_euler:
+      return "implicit_euler";
   }
   return "unknown";
 }
 
 bool integrator_from_string(const std::string& name, IntegratorKind& kind) {
-  if (name == "symplectic_euler") {
-    kind = IntegratorKind::symplectic_euler;
-    return true;
+  for (IntegratorKind candidate :
+       {IntegratorKind::symplectic_euler, IntegratorKind::midpoint, IntegratorKind::implicit_euler}) {
+    if (name == to_string(candidate)) {
+      kind = candidate;
+      return true;
+    }
   }
   return false;
 }

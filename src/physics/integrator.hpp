@@ -4,7 +4,11 @@
 
 namespace weft {
 
-enum class IntegratorKind { symplectic_euler };
+enum class IntegratorKind {
+  symplectic_euler,  // explicit, first order, conditionally stable
+  midpoint,          // explicit, second order (physics/midpoint_euler.hpp)
+  implicit_euler,    // backward Euler by Newton on the incremental potential (physics/implicit_euler.hpp)
+};
 
 const char* to_string(IntegratorKind kind);
 // Parses an integrator name; returns false if it is unknown.

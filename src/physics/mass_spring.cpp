@@ -1,5 +1,7 @@
 #include "physics/mass_spring.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace weft {
@@ -130,6 +132,71 @@ void add_spring_forces(const SpringSet& springs, const Positions& x, const Posit
     force.col(i) += f_i;
     force.col(j) -= f_i;
   }
+}
+
+Mat3 spring_hessian_block(const Vec3& d, double rest_length, double stiffness, bool project_to_psd) {
+  const double length = d.norm();
+  if (length == 0.0) return stiffness * Mat3::Identity();  // direction undefined: isotropic stiffness
+  const Vec3 direction = d / length;
+  const Mat3 along = direction * direction.transpose();
+  double transverse = 1.0 - rest_length / length;
+  if (project_to_psd) transverse = std::max(transverse, 0.0);
+  return stiffness * (along + transverse * (Mat3::Identity() - along));
+}
+
+double evaluate_springs(const SpringSet& springs, const Positions& x, Positions* gradient, SparseHessian* hessian,
+                        int stencil, bool project_to_psd) {
+  double energy = 0.0;
+  for (int s = 0; s < springs.size(); ++s) {
+    const int i = springs.vertices(0, s);
+    const int j = springs.vertices(1, s);
+    const Vec3 d = x.col(j) - x.col(i);
+    const double length = d.norm();
+    const double stretch = length - springs.rest_length[s];
+    const double k = springs.stiffness[s];
+    energy += 0.5 * k * stretch * stretch;
+    if (gradient != nullptr && length > 0.0) {
+      const Vec3 g = (k * stretch / length) * d;  // dE/dxj
+      gradient->col(j) += g;
+      gradient->col(i) -= g;
+    }
+    if (hessian != nullptr) {
+      const Mat3 block = spring_hessian_block(d, springs.rest_length[s], k, project_to_psd);
+      Matrix6d element;
+      element << block, -block, -block, block;
+      hessian->add_element<2>(stencil, s, element);
+    }
+  }
+  return energy;
+}
+
+double evaluate_spring_damping(const SpringSet& springs, const Positions& x_start, const Positions& x, double h,
+                               Positions* gradient, SparseHessian* hessian, int stencil) {
+  double energy = 0.0;
+  for (int s = 0; s < springs.size(); ++s) {
+    const double gamma = springs.damping[s];
+    if (gamma == 0.0) continue;
+    const int i = springs.vertices(0, s);
+    const int j = springs.vertices(1, s);
+    const Vec3 d_start = x_start.col(j) - x_start.col(i);
+    const double length = d_start.norm();
+    if (length == 0.0) continue;
+    const Vec3 u = d_start / length;
+    const double relative = (x.col(j) - x_start.col(j) - x.col(i) + x_start.col(i)).dot(u);
+    energy += 0.5 * gamma / h * relative * relative;
+    if (gradient != nullptr) {
+      const Vec3 g = (gamma / h * relative) * u;
+      gradient->col(j) += g;
+      gradient->col(i) -= g;
+    }
+    if (hessian != nullptr) {
+      const Mat3 block = (gamma / h) * u * u.transpose();
+      Matrix6d element;
+      element << block, -block, -block, block;
+      hessian->add_element<2>(stencil, s, element);
+    }
+  }
+  return energy;
 }
 
 }  // namespace weft

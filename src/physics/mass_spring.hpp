@@ -4,6 +4,7 @@
 #include "core/math.hpp"
 #include "core/mesh_generators.hpp"
 #include "core/topology.hpp"
+#include "physics/sparse_hessian.hpp"
 
 namespace weft {
 
@@ -49,5 +50,22 @@ double spring_energy(const SpringSet& springs, const Positions& x);
 
 // Adds elastic and damping spring forces to `force` (3 x n_vertices).
 void add_spring_forces(const SpringSet& springs, const Positions& x, const Positions& v, Positions& force);
+
+// Hessian of one spring's energy with respect to its end xj (d = xj - xi, |d| = l):
+//   K = k [ d d^T / l^2 + (1 - L/l) (I - d d^T / l^2) ],  and the spring's 6x6 Hessian is
+//   [[K, -K], [-K, K]]. With `project_to_psd` the transverse factor (1 - L/l) is clamped at 0,
+//   which is exactly the PSD projection of the 6x6 block (its eigenvalues are 2x those of K).
+Mat3 spring_hessian_block(const Vec3& d, double rest_length, double stiffness, bool project_to_psd);
+
+// Elastic energy of all springs; adds its gradient and (PSD-projected if asked) Hessian to
+// the outputs that are not null. The Hessian uses stencil `stencil` (the springs' vertices).
+double evaluate_springs(const SpringSet& springs, const Positions& x, Positions* gradient, SparseHessian* hessian,
+                        int stencil, bool project_to_psd);
+
+// The seed's spring damping as a dissipation potential for implicit Euler, with directions
+// lagged at the step start: D(x) = sum gamma/(2h) ((dx_j - dx_i) . u)^2, dx = x - x_start,
+// u = unit direction at x_start. Its gradient is minus the damping force at v = dx/h.
+double evaluate_spring_damping(const SpringSet& springs, const Positions& x_start, const Positions& x, double h,
+                               Positions* gradient, SparseHessian* hessian, int stencil);
 
 }  // namespace weft

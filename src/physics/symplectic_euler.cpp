@@ -1,19 +1,12 @@
 #include "physics/symplectic_euler.hpp"
 
-#include "physics/gravity.hpp"
-#include "physics/mass_damping.hpp"
+#include "physics/cloth_terms.hpp"
 
 namespace weft {
 
-void symplectic_euler_step(Cloth& cloth, const Vec3& gravity, double h) {
-  ClothState& state = cloth.state;
-  const ClothModel& model = cloth.model;
-  // Forces at the start of the step.
-  state.force.setZero();
-  add_gravity_forces(model.mass, gravity, state.force);
-  add_spring_forces(model.springs, state.x, state.v, state.force);
-  if (model.mass_damping > 0.0) add_mass_damping_forces(model.mass, model.mass_damping, state.v, state.force);
-  // Velocity first, then position with the new velocity.
+void symplectic_euler_step(const ClothModel& model, ClothState& state, const Vec3& gravity, double h) {
+  // Forces at the start of the step; velocity first, then position with the new velocity.
+  compute_forces(model, gravity, state.x, state.v, state.force);
   state.v.noalias() += h * (state.force * model.inverse_mass.asDiagonal());
   state.x.noalias() += h * state.v;
 }

@@ -5,6 +5,9 @@
 
 namespace weft {
 
-void symplectic_euler_step(Cloth& cloth, const Vec3& gravity, double h);
+void symplectic_euler_step(const ClothModel& model, ClothState& state, const Vec3& gravity, double h);
+inline void symplectic_euler_step(Cloth& cloth, const Vec3& gravity, double h) {
+  symplectic_euler_step(cloth.model, cloth.state, gravity, h);
+}
 
 }  // namespace weft

@@ -12,7 +12,8 @@ namespace {
 // A float vec3 attribute at `location` streamed from `buffer`.
 void define_vec3_attribute(GLuint location, GLuint buffer, int num_vertices) {
   glBindBuffer(GL_ARRAY_BUFFER, buffer);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(3 * sizeof(float)) * num_vertices, nullptr, GL_DYNAMIC_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(3 * sizeof(float)) * num_vertices, nullptr,
+               GL_DYNAMIC_DRAW);
   glEnableVertexAttribArray(location);
   glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
 }

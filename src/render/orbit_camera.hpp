@@ -31,10 +31,10 @@ class OrbitCamera {
   Eigen::Vector3d direction() const;
 
   Eigen::Vector3d target_ = Eigen::Vector3d::Zero();
-  double distance_ = 5.0;          // m, eye to target
-  double yaw_ = 0.5;               // rad about +y, 0 looks along -z
-  double pitch_ = 0.35;            // rad above the horizontal
-  double vertical_fov_ = 0.7854;   // rad (45 degrees)
+  double distance_ = 5.0;         // m, eye to target
+  double yaw_ = 0.4;              // rad about +y, 0 looks along -z
+  double pitch_ = 0.3;            // rad above the horizontal
+  double vertical_fov_ = 0.7854;  // rad (45 degrees)
 };
 
 }  // namespace weft

@@ -16,7 +16,8 @@ Renderer::Renderer(const std::string& shader_dir)
 
 Renderer::~Renderer() { glDeleteVertexArrays(1, &empty_vertex_array_); }
 
-MeshHandle Renderer::add_mesh(const Triangles& triangles, const Positions& positions, const SurfaceStyle& style) {
+MeshHandle Renderer::add_mesh(const Triangles& triangles, const Positions& positions,
+                              const SurfaceStyle& style) {
   const int num_vertices = static_cast<int>(positions.cols());
   meshes_.push_back({GpuMesh(triangles, num_vertices), triangles, style, Eigen::Matrix4f::Identity(),
                      Eigen::Matrix3Xf(3, num_vertices), Eigen::Matrix3Xf(3, num_vertices)});
@@ -57,11 +58,12 @@ void Renderer::draw(const OrbitCamera& camera, int framebuffer_width, int frameb
   if (framebuffer_height <= 0 || meshes_.empty()) return;
   const double aspect = static_cast<double>(framebuffer_width) / framebuffer_height;
   const Eigen::Matrix4f view = camera.view_matrix();
-  // A key light above and left of the camera, following it as it orbits.
+  // A key light just above and left of the camera, following it as it orbits, so whatever faces
+  // the camera is lit.
   const Eigen::Vector3f right = view.block<1, 3>(0, 0).transpose();
   const Eigen::Vector3f up = view.block<1, 3>(1, 0).transpose();
   const Eigen::Vector3f backward = view.block<1, 3>(2, 0).transpose();
-  const Eigen::Vector3f light_dir = (-0.35f * right + 0.75f * up + 0.55f * backward).normalized();
+  const Eigen::Vector3f light_dir = (-0.3f * right + 0.65f * up + 0.7f * backward).normalized();
 
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -77,6 +79,7 @@ void Renderer::draw(const OrbitCamera& camera, int framebuffer_width, int frameb
     mesh_program_.set("u_back_color", entry.style.back_color);
     mesh_program_.set("u_specular", entry.style.specular);
     mesh_program_.set("u_shininess", entry.style.shininess);
+    mesh_program_.set("u_checker_size", entry.style.checker_size);
     entry.gpu.draw();
   }
   glDisable(GL_DEPTH_TEST);

@@ -19,8 +19,9 @@ namespace weft {
 struct SurfaceStyle {
   Eigen::Vector3f front_color{0.8f, 0.8f, 0.8f};
   Eigen::Vector3f back_color{0.8f, 0.8f, 0.8f};
-  float specular = 0.15f;    // strength of the white highlight
-  float shininess = 32.0f;   // Blinn exponent
+  float specular = 0.15f;     // strength of the white highlight
+  float shininess = 32.0f;    // Blinn exponent
+  float checker_size = 0.0f;  // m; > 0 draws a faint checkerboard in the mesh's own frame
 };
 
 using MeshHandle = int;
@@ -52,11 +53,11 @@ class Renderer {
  private:
   struct Entry {
     GpuMesh gpu;
-    Triangles triangles;            // (3 x n_triangles), kept for recomputing normals
+    Triangles triangles;  // (3 x n_triangles), kept for recomputing normals
     SurfaceStyle style;
     Eigen::Matrix4f model = Eigen::Matrix4f::Identity();
-    Eigen::Matrix3Xf positions;     // upload scratch (3 x n_vertices)
-    Eigen::Matrix3Xf normals;       // upload scratch (3 x n_vertices)
+    Eigen::Matrix3Xf positions;  // upload scratch (3 x n_vertices)
+    Eigen::Matrix3Xf normals;    // upload scratch (3 x n_vertices)
   };
 
   ShaderProgram mesh_program_;

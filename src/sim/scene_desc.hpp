@@ -6,6 +6,8 @@
 
 #include "collision/collider.hpp"
 #include "core/mesh_generators.hpp"
+#include "physics/adaptive_stepping.hpp"
+#include "physics/implicit_euler.hpp"
 #include "physics/integrator.hpp"
 
 namespace weft {
@@ -56,6 +58,8 @@ struct SceneDesc {
   IntegratorKind integrator = IntegratorKind::symplectic_euler;
   double time_step = 1.0 / 600.0; // s, the largest step; each frame is cut into equal steps <= this
   int substeps = 1;               // integration sub-steps per time step
+  ImplicitEulerSettings implicit; // "solver": {"newton": ...}
+  AdaptiveSettings adaptive;      // "solver": {"adaptive": ...}
   double fps = 30.0;              // recorded frames per simulated second
   int frames = 90;                // frames to simulate (the initial state is frame 0)
   std::vector<ClothDesc> cloths;

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "collision/placeholder_contact.hpp"
-#include "physics/gravity.hpp"
+#include "physics/cloth_terms.hpp"
 #include "physics/symplectic_euler.hpp"
 
 namespace weft {
@@ -19,7 +19,10 @@ double milliseconds_since(Clock::time_point start) {
 
 }  // namespace
 
-void World::add_cloth(Cloth cloth) { cloths_.push_back(std::move(cloth)); }
+void World::add_cloth(Cloth cloth) {
+  cloths_.push_back(std::move(cloth));
+  solvers_.push_back(std::make_unique<ClothSolvers>());
+}
 
 void World::add_collider(Collider collider) { colliders_.push_back(std::move(collider)); }
 
@@ -35,7 +38,7 @@ void World::step() {
     stats.move_colliders_ms += milliseconds_since(phase_start);
 
     phase_start = Clock::now();
-    integrate(h);
+    integrate(h, stats);
     stats.integrate_ms += milliseconds_since(phase_start);
 
     phase_start = Clock::now();
@@ -51,12 +54,32 @@ void World::step() {
 // Colliders are static until the collision issue adds kinematic ones.
 void World::move_colliders(double /*h*/) {}
 
-void World::integrate(double h) {
-  for (Cloth& cloth : cloths_) {
+void World::integrate(double h, StepStats& stats) {
+  for (size_t c = 0; c < cloths_.size(); ++c) {
+    Cloth& cloth = cloths_[c];
+    ClothSolvers& solvers = *solvers_[c];
+    if (settings.integrator != IntegratorKind::implicit_euler && settings.adaptive.enabled) {
+      const int accepted = solvers.adaptive.accepted, rejected = solvers.adaptive.rejected;
+      adaptive_advance(cloth, settings.integrator, settings.gravity, h, settings.adaptive, solvers.adaptive,
+                       solvers.explicit_workspace, solvers.trial);
+      stats.accepted_steps += solvers.adaptive.accepted - accepted;
+      stats.rejected_steps += solvers.adaptive.rejected - rejected;
+      continue;
+    }
     switch (settings.integrator) {
       case IntegratorKind::symplectic_euler:
         symplectic_euler_step(cloth, settings.gravity, h);
         break;
+      case IntegratorKind::midpoint:
+        midpoint_step(cloth, settings.gravity, h, solvers.explicit_workspace);
+        break;
+      case IntegratorKind::implicit_euler: {
+        const NewtonReport& report = solvers.implicit.step(cloth, settings.gravity, h, settings.implicit);
+        stats.newton_iterations += report.newton_iterations;
+        stats.linear_iterations += report.linear_iterations;
+        if (!report.gradient_norms.empty()) stats.residual = std::max(stats.residual, report.gradient_norms.back());
+        break;
+      }
     }
   }
 }
@@ -74,8 +97,12 @@ Energies World::energies() const {
   for (const Cloth& cloth : cloths_) {
     const ClothState& state = cloth.state;
     energies.kinetic += 0.5 * (state.v.colwise().squaredNorm() * cloth.model.mass)(0);
-    energies.gravitational += gravitational_energy(cloth.model.mass, settings.gravity, state.x);
-    energies.elastic += spring_energy(cloth.model.springs, state.x);
+    TermEnergies terms;
+    evaluate_potential(cloth.model, settings.gravity, state.x, nullptr, nullptr, HessianStencils{}, false, &terms);
+    energies.gravitational += terms.gravity;
+    energies.elastic += terms.elastic();
+    energies.terms.springs += terms.springs;
+    energies.terms.gravity += terms.gravity;
   }
   return energies;
 }

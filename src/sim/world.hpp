@@ -1,11 +1,15 @@
 #pragma once
 // The World owns the cloths and colliders and advances them through the step pipeline
 // (DESIGN.md, "One time step"). There is no global world: the caller owns each one.
+#include <memory>
 #include <vector>
 
 #include "collision/collider.hpp"
+#include "physics/adaptive_stepping.hpp"
 #include "physics/cloth.hpp"
+#include "physics/implicit_euler.hpp"
 #include "physics/integrator.hpp"
+#include "physics/midpoint_euler.hpp"
 
 namespace weft {
 
@@ -14,12 +18,15 @@ struct SolverSettings {
   double time_step = 1.0 / 600.0;  // s, h of one call to World::step()
   int substeps = 1;                // integration sub-steps of h / substeps inside one step
   Vec3 gravity{0.0, -9.81, 0.0};   // m/s^2
+  ImplicitEulerSettings implicit;  // Newton and linear solver (implicit_euler)
+  AdaptiveSettings adaptive;       // adaptive sub-stepping (symplectic_euler, midpoint)
 };
 
 struct Energies {
   double kinetic = 0.0;
   double gravitational = 0.0;
-  double elastic = 0.0;            // springs
+  double elastic = 0.0;            // all elastic terms
+  TermEnergies terms;              // potential energy per term
   double total() const { return kinetic + gravitational + elastic; }
 };
 
@@ -30,6 +37,11 @@ struct StepStats {
   double collisions_ms = 0.0;
   double total_ms = 0.0;
   int contacts = 0;
+  int newton_iterations = 0;       // implicit Euler, summed over cloths and sub-steps
+  int linear_iterations = 0;       // conjugate-gradient iterations, summed likewise
+  int accepted_steps = 0;          // adaptive stepping: steps taken
+  int rejected_steps = 0;          // adaptive stepping: steps retried smaller
+  double residual = 0.0;           // implicit Euler: largest final gradient norm over cloths
 };
 
 class World {
@@ -51,10 +63,19 @@ class World {
 
  private:
   void move_colliders(double h);
-  void integrate(double h);
+  void integrate(double h, StepStats& stats);
   int resolve_collisions(double h);
 
+  // Per-cloth integrator storage, allocated on first use of each integrator.
+  struct ClothSolvers {
+    ImplicitEulerSolver implicit;
+    ExplicitWorkspace explicit_workspace;
+    AdaptiveState adaptive;
+    ClothState trial;
+  };
+
   std::vector<Cloth> cloths_;
+  std::vector<std::unique_ptr<ClothSolvers>> solvers_;  // Eigen solvers do not move: held by pointer
   std::vector<Collider> colliders_;
   double time_ = 0.0;
   StepStats stats_;

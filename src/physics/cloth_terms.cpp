@@ -1,0 +1,55 @@
+#include "physics/cloth_terms.hpp"
+
+#include "physics/gravity.hpp"
+#include "physics/mass_damping.hpp"
+
+namespace weft {
+
+void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianStencils& stencils) {
+  hessian.begin_pattern(static_cast<int>(model.rest_positions.cols()));
+  stencils = HessianStencils{};
+  if (model.springs.size() > 0) stencils.springs = hessian.add_stencil<2>(model.springs.vertices);
+  hessian.finish_pattern();
+  std::vector<char> fixed(model.inverse_mass.size());
+  for (Eigen::Index i = 0; i < model.inverse_mass.size(); ++i) fixed[i] = model.inverse_mass[i] == 0.0;
+  hessian.set_fixed_vertices(fixed);
+}
+
+double evaluate_potential(const ClothModel& model, const Vec3& gravity, const Positions& x, Positions* gradient,
+                          SparseHessian* hessian, const HessianStencils& stencils, bool project,
+                          TermEnergies* energies) {
+  TermEnergies terms;
+  terms.gravity = gravitational_energy(model.mass, gravity, x);
+  if (gradient != nullptr) add_gravity_forces(model.mass, -gravity, *gradient);  // dE/dx = -m g
+  if (model.springs.size() > 0) {
+    terms.springs = evaluate_springs(model.springs, x, gradient, hessian, stencils.springs, project);
+  }
+  if (energies != nullptr) *energies = terms;
+  return terms.gravity + terms.elastic();
+}
+
+double evaluate_dissipation(const ClothModel& model, const Positions& x_start, const Positions& x, double h,
+                            Positions* gradient, SparseHessian* hessian, const HessianStencils& stencils) {
+  double energy = 0.0;
+  if (model.springs.size() > 0) {
+    energy += evaluate_spring_damping(model.springs, x_start, x, h, gradient, hessian, stencils.springs);
+  }
+  if (model.mass_damping > 0.0) {
+    // Rayleigh damping c M v as the potential c/(2h) |x - x_start|^2_M.
+    const double c = model.mass_damping / h;
+    energy += 0.5 * c * ((x - x_start).colwise().squaredNorm() * model.mass)(0);
+    if (gradient != nullptr) gradient->noalias() += c * ((x - x_start) * model.mass.asDiagonal());
+    if (hessian != nullptr) hessian->add_diagonal(c * model.mass);
+  }
+  return energy;
+}
+
+void compute_forces(const ClothModel& model, const Vec3& gravity, const Positions& x, const Positions& v,
+                    Positions& force) {
+  force.setZero();
+  add_gravity_forces(model.mass, gravity, force);
+  if (model.springs.size() > 0) add_spring_forces(model.springs, x, v, force);
+  if (model.mass_damping > 0.0) add_mass_damping_forces(model.mass, model.mass_damping, v, force);
+}
+
+}  // namespace weft

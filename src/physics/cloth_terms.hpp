@@ -1,0 +1,40 @@
+#pragma once
+// Every force term a cloth has enabled, evaluated together: the potential energy with its
+// gradient and Hessian (implicit Euler), the dissipation potential of the damping terms, and
+// the total force (explicit integrators). A term that is off is skipped entirely.
+#include "physics/cloth.hpp"
+#include "physics/sparse_hessian.hpp"
+
+namespace weft {
+
+// Potential energy of each term, J.
+struct TermEnergies {
+  double springs = 0.0;
+  double gravity = 0.0;
+  double elastic() const { return springs; }
+};
+
+// Stencil ids of the terms in a SparseHessian (-1: term off).
+struct HessianStencils {
+  int springs = -1;
+};
+
+// Builds the Hessian's sparsity pattern for the cloth's enabled terms and its fixed vertices.
+void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianStencils& stencils);
+
+// Potential energy E(x) (elastic terms and gravity). Adds dE/dx to `gradient` and the
+// element-wise PSD-projected Hessian (if `project`) to `hessian` when they are not null.
+double evaluate_potential(const ClothModel& model, const Vec3& gravity, const Positions& x, Positions* gradient,
+                          SparseHessian* hessian, const HessianStencils& stencils, bool project,
+                          TermEnergies* energies = nullptr);
+
+// Dissipation potential of the damping terms over a step of h from x_start, whose gradient
+// at x is minus the damping force at velocity (x - x_start) / h.
+double evaluate_dissipation(const ClothModel& model, const Positions& x_start, const Positions& x, double h,
+                            Positions* gradient, SparseHessian* hessian, const HessianStencils& stencils);
+
+// Total force -dE/dx plus damping forces at (x, v), written to `force`.
+void compute_forces(const ClothModel& model, const Vec3& gravity, const Positions& x, const Positions& v,
+                    Positions& force);
+
+}  // namespace weft

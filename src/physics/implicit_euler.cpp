@@ -1,0 +1,117 @@
+#include "physics/implicit_euler.hpp"
+
+namespace weft {
+
+void ImplicitEulerSolver::prepare(const ClothModel& model) {
+  num_vertices_ = static_cast<int>(model.rest_positions.cols());
+  prepare_hessian(model, hessian_, stencils_);
+  x_start_.resize(3, num_vertices_);
+  x_hat_.resize(3, num_vertices_);
+  gradient_.resize(3, num_vertices_);
+  trial_.resize(3, num_vertices_);
+  free_mask_.resize(3 * num_vertices_);
+  for (int i = 0; i < num_vertices_; ++i) free_mask_.segment<3>(3 * i).setConstant(model.inverse_mass[i] > 0.0);
+  rhs_.resize(3 * num_vertices_);
+  dx_.resize(3 * num_vertices_);
+  report_.gradient_norms.reserve(64);
+  ldlt_analyzed_ = false;
+  prepared_ = true;
+}
+
+// Phi(x) = 1/(2h^2) |x - x_hat|^2_M + E(x) + D(x); its gradient (pinned entries zeroed) and,
+// if `assemble`, its Hessian M/h^2 + projected d2E + d2D with pinned rows and columns identity.
+double ImplicitEulerSolver::incremental_potential(const ClothModel& model, const Vec3& gravity, const Positions& x,
+                                                  double h, Positions* gradient, bool assemble) {
+  SparseHessian* hessian = assemble ? &hessian_ : nullptr;
+  if (gradient != nullptr) gradient->setZero();
+  if (hessian != nullptr) hessian->set_zero();
+  const double inverse_h2 = 1.0 / (h * h);
+  double value = 0.5 * inverse_h2 * ((x - x_hat_).colwise().squaredNorm() * model.mass)(0);
+  if (gradient != nullptr) gradient->noalias() += inverse_h2 * ((x - x_hat_) * model.mass.asDiagonal());
+  if (hessian != nullptr) hessian->add_diagonal(inverse_h2 * model.mass);
+  value += evaluate_potential(model, gravity, x, gradient, hessian, stencils_, /*project=*/true);
+  value += evaluate_dissipation(model, x_start_, x, h, gradient, hessian, stencils_);
+  if (gradient != nullptr) {
+    Eigen::Map<Eigen::VectorXd>(gradient->data(), gradient->size()).array() *= free_mask_.array();
+  }
+  if (hessian != nullptr) hessian->finish_assembly();
+  return value;
+}
+
+// Solves H dx = rhs_; returns false if the solver failed.
+bool ImplicitEulerSolver::solve(const ImplicitEulerSettings& settings) {
+  const SparseHessian::Matrix& matrix = hessian_.matrix();
+  if (settings.linear_solver == LinearSolverKind::cholesky) {
+    // The matrix is symmetric, so its row-major arrays read as column-major are the same matrix.
+    const Eigen::Map<const ColumnMajor> column_major(matrix.rows(), matrix.cols(), matrix.nonZeros(),
+                                                     matrix.outerIndexPtr(), matrix.innerIndexPtr(),
+                                                     matrix.valuePtr());
+    if (!ldlt_analyzed_) {
+      ldlt_.analyzePattern(column_major);
+      ldlt_analyzed_ = true;
+    }
+    ldlt_.factorize(column_major);
+    if (ldlt_.info() != Eigen::Success) return false;
+    dx_ = ldlt_.solve(rhs_);
+    return ldlt_.info() == Eigen::Success;
+  }
+  cg_.setTolerance(settings.cg_tolerance);
+  cg_.setMaxIterations(settings.max_cg_iterations);
+  cg_.compute(matrix);
+  dx_.setZero();
+  dx_ = cg_.solveWithGuess(rhs_, dx_);
+  report_.linear_iterations += static_cast<int>(cg_.iterations());
+  return cg_.info() == Eigen::Success || cg_.info() == Eigen::NoConvergence;
+}
+
+const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity, double h,
+                                              const ImplicitEulerSettings& settings) {
+  const ClothModel& model = cloth.model;
+  ClothState& state = cloth.state;
+  if (!prepared_ || num_vertices_ != cloth.num_vertices()) prepare(model);
+  report_.newton_iterations = 0;
+  report_.linear_iterations = 0;
+  report_.converged = false;
+  report_.gradient_norms.clear();
+
+  // Inertial predictor; pinned vertices keep their (zero) velocity, so they stay put.
+  x_start_ = state.x;
+  x_hat_.noalias() = state.x + h * state.v;
+  Positions& x = state.x;
+  x = x_hat_;
+
+  double value = incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/true);
+  const auto gradient_vector = [this] { return Eigen::Map<const Eigen::VectorXd>(gradient_.data(), gradient_.size()); };
+  for (int iteration = 0; iteration < settings.max_newton_iterations; ++iteration) {
+    report_.gradient_norms.push_back(gradient_vector().norm());
+    rhs_ = -gradient_vector();
+    if (!solve(settings)) break;
+    ++report_.newton_iterations;
+    dx_.array() *= free_mask_.array();
+    const Eigen::Map<const Positions> step(dx_.data(), 3, num_vertices_);
+
+    // Backtracking line search on Phi with the Armijo condition.
+    const double slope = gradient_vector().dot(dx_);
+    double alpha = 1.0;
+    double trial_value = value;
+    while (alpha > 1e-8) {
+      trial_.noalias() = x + alpha * step;
+      trial_value = incremental_potential(model, gravity, trial_, h, nullptr, false);
+      if (trial_value <= value + 1e-4 * alpha * slope) break;
+      alpha *= 0.5;
+    }
+    if (alpha <= 1e-8) break;  // no decrease along dx: cannot improve further
+    x = trial_;
+    const bool small_step = alpha * dx_.lpNorm<Eigen::Infinity>() < settings.newton_tolerance * h;
+    value = incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/!small_step);
+    if (small_step) {
+      report_.gradient_norms.push_back(gradient_vector().norm());
+      report_.converged = true;
+      break;
+    }
+  }
+  state.v = (x - x_start_) / h;
+  return report_;
+}
+
+}  // namespace weft

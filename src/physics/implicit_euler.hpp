@@ -1,0 +1,64 @@
+#pragma once
+// Implicit (backward) Euler as minimisation of the incremental potential (Gast et al. 2015):
+//   x_{n+1} = argmin  1/(2h^2) |x - x_hat|^2_M + E(x) + D(x),   x_hat = x_n + h v_n,
+// with E the potential (elastic terms, gravity) and D the damping terms' dissipation potential;
+// then v_{n+1} = (x_{n+1} - x_n)/h. Newton's method with the element-wise PSD-projected
+// Hessian, a backtracking (Armijo) line search on the incremental potential, and a sparse solve.
+#include <vector>
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
+
+#include "physics/cloth.hpp"
+#include "physics/cloth_terms.hpp"
+#include "physics/sparse_hessian.hpp"
+
+namespace weft {
+
+enum class LinearSolverKind { conjugate_gradient, cholesky };
+
+struct ImplicitEulerSettings {
+  double newton_tolerance = 1e-5;   // m/s: stop when the Newton step's largest |dx| / h is below this
+  int max_newton_iterations = 30;
+  LinearSolverKind linear_solver = LinearSolverKind::conjugate_gradient;
+  double cg_tolerance = 1e-6;       // relative residual of each conjugate-gradient solve
+  int max_cg_iterations = 2000;
+};
+
+// What the last step did.
+struct NewtonReport {
+  int newton_iterations = 0;
+  int linear_iterations = 0;        // CG iterations summed over Newton iterations (0 for Cholesky)
+  bool converged = false;
+  std::vector<double> gradient_norms;  // |grad of incremental potential| over free vertices, per iteration
+};
+
+// Preallocated storage for one cloth's implicit steps; the sparsity pattern is built on first use.
+class ImplicitEulerSolver {
+ public:
+  // Advances the cloth by h. Returns the report (also kept in last_report()).
+  const NewtonReport& step(Cloth& cloth, const Vec3& gravity, double h, const ImplicitEulerSettings& settings);
+  const NewtonReport& last_report() const { return report_; }
+
+ private:
+  using ColumnMajor = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+  void prepare(const ClothModel& model);
+  double incremental_potential(const ClothModel& model, const Vec3& gravity, const Positions& x, double h,
+                               Positions* gradient, bool assemble);
+  bool solve(const ImplicitEulerSettings& settings);
+
+  bool prepared_ = false;
+  int num_vertices_ = 0;
+  SparseHessian hessian_;
+  HessianStencils stencils_;
+  Positions x_start_, x_hat_, gradient_, trial_;
+  Eigen::VectorXd free_mask_;       // 1 for free coordinates, 0 for pinned (3n)
+  Eigen::VectorXd rhs_, dx_;
+  Eigen::ConjugateGradient<SparseHessian::Matrix, Eigen::Lower | Eigen::Upper, Eigen::DiagonalPreconditioner<double>> cg_;
+  Eigen::SimplicialLDLT<ColumnMajor> ldlt_;
+  bool ldlt_analyzed_ = false;
+  NewtonReport report_;
+};
+
+}  // namespace weft

@@ -1,0 +1,103 @@
+#include "physics/sparse_hessian.hpp"
+
+#include <algorithm>
+
+namespace weft {
+
+void SparseHessian::begin_pattern(int num_vertices) {
+  num_vertices_ = num_vertices;
+  block_columns_.assign(num_vertices, {});
+  for (int i = 0; i < num_vertices; ++i) block_columns_[i].push_back(i);
+  stencil_sizes_.clear();
+  stencil_elements_.clear();
+  stencil_slots_.clear();
+}
+
+void SparseHessian::finish_pattern() {
+  // Scalar CSR layout: block row a with m block columns gives 3 scalar rows of 3m entries each.
+  const int n = 3 * num_vertices_;
+  std::vector<int> outer(n + 1, 0);
+  for (int a = 0; a < num_vertices_; ++a) {
+    std::vector<int>& columns = block_columns_[a];
+    std::sort(columns.begin(), columns.end());
+    columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
+    for (int r = 0; r < 3; ++r) outer[3 * a + r + 1] = outer[3 * a + r] + 3 * static_cast<int>(columns.size());
+  }
+  matrix_ = Matrix(n, n);
+  matrix_.resizeNonZeros(outer[n]);
+  std::copy(outer.begin(), outer.end(), matrix_.outerIndexPtr());
+  int* inner = matrix_.innerIndexPtr();
+  for (int a = 0; a < num_vertices_; ++a) {
+    for (int r = 0; r < 3; ++r) {
+      int position = outer[3 * a + r];
+      for (int b : block_columns_[a]) {
+        for (int c = 0; c < 3; ++c) inner[position++] = 3 * b + c;
+      }
+    }
+  }
+  set_zero();
+
+  // Where each element's blocks and each vertex's diagonal block live.
+  for (size_t s = 0; s < stencil_sizes_.size(); ++s) {
+    const int k = stencil_sizes_[s];
+    const Eigen::MatrixXi& elements = stencil_elements_[s];
+    std::vector<int>& slots = stencil_slots_.emplace_back(static_cast<size_t>(elements.cols()) * k * k * 3);
+    for (Eigen::Index e = 0; e < elements.cols(); ++e) {
+      for (int a = 0; a < k; ++a) {
+        for (int b = 0; b < k; ++b) {
+          for (int r = 0; r < 3; ++r) {
+            slots[((e * k + a) * k + b) * 3 + r] = block_row_start(elements(a, e), elements(b, e), r);
+          }
+        }
+      }
+    }
+  }
+  diagonal_slots_.resize(3 * num_vertices_);
+  for (int i = 0; i < num_vertices_; ++i) {
+    for (int r = 0; r < 3; ++r) diagonal_slots_[3 * i + r] = block_row_start(i, i, r);
+  }
+  stencil_elements_.clear();
+  stencil_elements_.shrink_to_fit();
+}
+
+int SparseHessian::block_row_start(int a, int b, int r) const {
+  const std::vector<int>& columns = block_columns_[a];
+  const int position = static_cast<int>(std::lower_bound(columns.begin(), columns.end(), b) - columns.begin());
+  return matrix_.outerIndexPtr()[3 * a + r] + 3 * position;
+}
+
+void SparseHessian::set_fixed_vertices(const std::vector<char>& fixed) {
+  fixed_value_indices_.clear();
+  fixed_diagonal_indices_.clear();
+  const int* outer = matrix_.outerIndexPtr();
+  const int* inner = matrix_.innerIndexPtr();
+  for (int row = 0; row < matrix_.rows(); ++row) {
+    const bool row_fixed = fixed[row / 3] != 0;
+    for (int k = outer[row]; k < outer[row + 1]; ++k) {
+      if (row_fixed || fixed[inner[k] / 3] != 0) fixed_value_indices_.push_back(k);
+      if (row_fixed && inner[k] == row) fixed_diagonal_indices_.push_back(k);
+    }
+  }
+}
+
+void SparseHessian::add_vertex_block(int vertex, const Mat3& block) {
+  double* values = matrix_.valuePtr();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) values[diagonal_slots_[3 * vertex + r] + c] += block(r, c);
+  }
+}
+
+void SparseHessian::add_diagonal(const Eigen::VectorXd& diagonal) {
+  double* values = matrix_.valuePtr();
+  for (int i = 0; i < num_vertices_; ++i) {
+    for (int r = 0; r < 3; ++r) values[diagonal_slots_[3 * i + r] + r] += diagonal[i];
+  }
+}
+
+void SparseHessian::finish_assembly() {
+  double* values = matrix_.valuePtr();
+  for (int k : fixed_value_indices_) values[k] = 0.0;
+  for (int k : fixed_diagonal_indices_) values[k] = 1.0;
+}
+
+}  // namespace weft

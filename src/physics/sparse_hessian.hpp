@@ -1,0 +1,83 @@
+#pragma once
+// The 3n x 3n Hessian of a cloth's energy, assembled element by element into a sparsity pattern
+// built once: each element stores where its 3x3 blocks live in the value array, so a step only
+// zeroes and adds values (no allocation, no search). Fixed (pinned) vertices become identity
+// rows and columns, so the Newton system only moves free vertices.
+#include <vector>
+
+#include <Eigen/SparseCore>
+
+#include "core/math.hpp"
+
+namespace weft {
+
+class SparseHessian {
+ public:
+  using Matrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+
+  // Pattern building: the diagonal blocks of all vertices are always present.
+  void begin_pattern(int num_vertices);
+  // Registers elements of K vertices each (K x n_elements indices); returns the stencil's id.
+  template <int K>
+  int add_stencil(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements);
+  void finish_pattern();
+
+  // Vertices whose rows and columns become identity at finish_assembly().
+  void set_fixed_vertices(const std::vector<char>& fixed);
+
+  void set_zero() { std::fill(matrix_.valuePtr(), matrix_.valuePtr() + matrix_.nonZeros(), 0.0); }
+  // Adds an element's (3K x 3K) matrix; element `e` of stencil `stencil`.
+  template <int K>
+  void add_element(int stencil, int e, const Eigen::Matrix<double, 3 * K, 3 * K>& element_matrix);
+  // Adds `block` to the diagonal block of `vertex`.
+  void add_vertex_block(int vertex, const Mat3& block);
+  // Adds value * I3 to the diagonal block of every vertex i, value = diagonal[i].
+  void add_diagonal(const Eigen::VectorXd& diagonal);
+  // Makes fixed rows and columns identity.
+  void finish_assembly();
+
+  const Matrix& matrix() const { return matrix_; }
+  int num_vertices() const { return num_vertices_; }
+
+ private:
+  // Value index of the first of the three columns of block (a, b) in scalar row 3a + r.
+  int block_row_start(int a, int b, int r) const;
+
+  int num_vertices_ = 0;
+  std::vector<std::vector<int>> block_columns_;  // during pattern building: block columns per block row
+  std::vector<int> stencil_sizes_;               // K of each stencil
+  std::vector<Eigen::MatrixXi> stencil_elements_;
+  std::vector<std::vector<int>> stencil_slots_;  // per stencil: (n_elements x K x K x 3) value offsets
+  std::vector<int> diagonal_slots_;              // per vertex: 3 offsets of its diagonal block rows
+  std::vector<int> fixed_value_indices_;         // values to zero for fixed rows and columns
+  std::vector<int> fixed_diagonal_indices_;      // values set to one
+  Matrix matrix_;
+};
+
+template <int K>
+int SparseHessian::add_stencil(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements) {
+  for (Eigen::Index e = 0; e < elements.cols(); ++e) {
+    for (int a = 0; a < K; ++a) {
+      for (int b = 0; b < K; ++b) block_columns_[elements(a, e)].push_back(elements(b, e));
+    }
+  }
+  stencil_sizes_.push_back(K);
+  stencil_elements_.push_back(elements);
+  return static_cast<int>(stencil_sizes_.size()) - 1;
+}
+
+template <int K>
+void SparseHessian::add_element(int stencil, int e, const Eigen::Matrix<double, 3 * K, 3 * K>& element_matrix) {
+  const int* slots = stencil_slots_[stencil].data() + static_cast<size_t>(e) * K * K * 3;
+  double* values = matrix_.valuePtr();
+  for (int a = 0; a < K; ++a) {
+    for (int b = 0; b < K; ++b) {
+      for (int r = 0; r < 3; ++r) {
+        double* row = values + slots[(a * K + b) * 3 + r];
+        for (int c = 0; c < 3; ++c) row[c] += element_matrix(3 * a + r, 3 * b + c);
+      }
+    }
+  }
+}
+
+}  // namespace weft

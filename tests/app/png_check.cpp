@@ -1,0 +1,93 @@
+// png_check FILE [--min-cloth FRACTION] [--min-grey FRACTION]
+// Fails unless a viewer screenshot shows something: at least FRACTION of its pixels in the cloth's
+// colour families (warm orange front, blue back) and, if asked, in the colliders' greys. The dark
+// background gradient falls in neither family.
+#include <stb_image.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+namespace {
+
+struct Hsv {
+  double hue;         // degrees in [0, 360)
+  double saturation;  // [0, 1]
+  double value;       // [0, 1]
+};
+
+Hsv to_hsv(const unsigned char* rgb) {
+  const double r = rgb[0] / 255.0, g = rgb[1] / 255.0, b = rgb[2] / 255.0;
+  const double max = std::max({r, g, b}), min = std::min({r, g, b});
+  const double chroma = max - min;
+  double hue = 0.0;
+  if (chroma > 0.0) {
+    if (max == r) {
+      hue = 60.0 * std::fmod((g - b) / chroma + 6.0, 6.0);
+    } else if (max == g) {
+      hue = 60.0 * ((b - r) / chroma + 2.0);
+    } else {
+      hue = 60.0 * ((r - g) / chroma + 4.0);
+    }
+  }
+  return {hue, max > 0.0 ? chroma / max : 0.0, max};
+}
+
+bool is_cloth(const Hsv& c) {
+  const bool warm = c.hue >= 10.0 && c.hue <= 50.0 && c.saturation >= 0.45 && c.value >= 0.25;
+  const bool blue = c.hue >= 200.0 && c.hue <= 240.0 && c.saturation >= 0.45 && c.value >= 0.2;
+  return warm || blue;
+}
+
+bool is_grey(const Hsv& c) { return c.saturation <= 0.08 && c.value >= 0.25; }
+
+int usage() {
+  std::fprintf(stderr, "usage: png_check FILE [--min-cloth FRACTION] [--min-grey FRACTION]\n");
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) return usage();
+  const std::string path = argv[1];
+  double min_cloth = 0.01;
+  double min_grey = 0.0;
+  for (int k = 2; k < argc; ++k) {
+    if (k + 1 >= argc) return usage();
+    if (std::strcmp(argv[k], "--min-cloth") == 0) {
+      min_cloth = std::atof(argv[++k]);
+    } else if (std::strcmp(argv[k], "--min-grey") == 0) {
+      min_grey = std::atof(argv[++k]);
+    } else {
+      return usage();
+    }
+  }
+
+  int width = 0, height = 0, channels = 0;
+  unsigned char* pixels = stbi_load(path.c_str(), &width, &height, &channels, 3);
+  if (pixels == nullptr) {
+    std::fprintf(stderr, "png_check: %s: cannot read PNG: %s\n", path.c_str(), stbi_failure_reason());
+    return 1;
+  }
+  long cloth = 0, grey = 0;
+  const long total = static_cast<long>(width) * height;
+  for (long i = 0; i < total; ++i) {
+    const Hsv colour = to_hsv(pixels + 3 * i);
+    if (is_cloth(colour)) ++cloth;
+    if (is_grey(colour)) ++grey;
+  }
+  stbi_image_free(pixels);
+
+  const double cloth_fraction = static_cast<double>(cloth) / std::max(total, 1L);
+  const double grey_fraction = static_cast<double>(grey) / std::max(total, 1L);
+  std::printf("%s: %dx%d, cloth %.2f%% (need %.2f%%), grey %.2f%% (need %.2f%%)\n", path.c_str(), width,
+              height, 100.0 * cloth_fraction, 100.0 * min_cloth, 100.0 * grey_fraction, 100.0 * min_grey);
+  const bool ok = total > 0 && cloth_fraction >= min_cloth && grey_fraction >= min_grey;
+  if (!ok)
+    std::fprintf(stderr, "png_check: %s does not show the expected cloth and colliders\n", path.c_str());
+  return ok ? 0 : 1;
+}
