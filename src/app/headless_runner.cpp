@@ -1,5 +1,7 @@
 #include "app/headless_runner.hpp"
 
+#include <omp.h>
+
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -65,18 +67,25 @@ struct FrameStats {
   int frame = 0;
   double time = 0.0;
   Energies energies;
-  int contacts = 0;
+  double dissipated = 0.0;  // J: total energy lost since frame 0 (damping, contact, friction)
+  StepStats steps;          // summed over the frame's steps
   double wall_ms = 0.0;
 };
 
 void write_stats(const std::filesystem::path& path, const std::vector<FrameStats>& rows) {
   write_file_atomically(path.string(), [&](std::ostream& out) {
-    out << "frame,time,kinetic_energy,potential_energy,gravitational_energy,elastic_energy,contacts,wall_ms\n";
+    out << "frame,time,kinetic_energy,potential_energy,gravitational_energy,elastic_energy,spring_energy,"
+           "energy_dissipated,contacts,newton_iterations,linear_iterations,accepted_steps,rejected_steps,"
+           "integrate_ms,collisions_ms,wall_ms\n";
     out << std::setprecision(10);
     for (const FrameStats& row : rows) {
-      out << row.frame << ',' << row.time << ',' << row.energies.kinetic << ','
-          << row.energies.gravitational + row.energies.elastic << ',' << row.energies.gravitational << ','
-          << row.energies.elastic << ',' << row.contacts << ',' << row.wall_ms << '\n';
+      const Energies& e = row.energies;
+      const StepStats& s = row.steps;
+      out << row.frame << ',' << row.time << ',' << e.kinetic << ',' << e.gravitational + e.elastic << ','
+          << e.gravitational << ',' << e.elastic << ',' << e.terms.springs << ',' << row.dissipated << ','
+          << s.contacts << ',' << s.newton_iterations << ',' << s.linear_iterations << ',' << s.accepted_steps
+          << ',' << s.rejected_steps << ',' << s.integrate_ms << ',' << s.collisions_ms << ',' << row.wall_ms
+          << '\n';
     }
   });
 }
@@ -104,6 +113,7 @@ int run_headless(const HeadlessOptions& options) {
   try {
     scene = load_scene_file(options.scene_path, overrides);
     world = build_world(scene);
+    world.settings.threads = options.threads > 0 ? options.threads : omp_get_num_procs();
   } catch (const SceneError& error) {
     std::fprintf(stderr, "weft: %s\n", error.what());
     return 2;
@@ -125,18 +135,24 @@ int run_headless(const HeadlessOptions& options) {
 
     install_stop_handlers();
     ProgressReporter progress(scene.frames, !options.quiet);
-    const auto record = [&](int frame, double wall_ms) {
+    const double initial_energy = world.energies().total();
+    const auto record = [&](int frame, const StepStats& steps, double wall_ms) {
       write_frame(world, out_dir / frame_file_name(frame, scene.frames));
-      rows.push_back({frame, world.time(), world.energies(), world.last_step_stats().contacts, wall_ms});
+      const Energies energies = world.energies();
+      rows.push_back({frame, world.time(), energies, initial_energy - energies.total(), steps, wall_ms});
       write_stats(out_dir / "stats.csv", rows);
       frames_written = frame + 1;
     };
 
-    record(0, 0.0);
+    record(0, StepStats{}, 0.0);
     for (int frame = 1; frame <= scene.frames; ++frame) {
       if (stop_requested) break;
       const auto start = std::chrono::steady_clock::now();
-      for (int step = 0; step < schedule.steps_per_frame; ++step) world.step();
+      StepStats frame_steps;
+      for (int step = 0; step < schedule.steps_per_frame; ++step) {
+        world.step();
+        frame_steps += world.last_step_stats();
+      }
       const double wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       if (const std::string bad = find_non_finite(world); !bad.empty()) {
         progress.finish(frame - 1);
@@ -147,7 +163,7 @@ int run_headless(const HeadlessOptions& options) {
         write_run_json(out_dir / "run.json", recorded, scene, "diverged", frames_written);
         return 3;
       }
-      record(frame, wall_ms);
+      record(frame, frame_steps, wall_ms);
       progress.update(frame);
     }
     progress.finish(frames_written - 1);

@@ -11,6 +11,7 @@ struct HeadlessOptions {
   std::string out_dir;
   int frames = -1;                     // -1: the scene's "frames"
   bool quiet = false;                  // no progress output
+  int threads = 1;                     // threads for the solver (0: all cores)
 };
 
 // Returns the process exit code: 0 done, 2 bad input, 4 output error, 130 interrupted (Ctrl-C).

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> overrides;
   std::string screenshot;
   bool quiet = false;
+  int threads = 1;
   bool version = false;
 
   app.add_option("scene", scene_path, "Scene file (JSON)")->capture_default_str();
@@ -31,6 +32,7 @@ int main(int argc, char** argv) {
       ->take_all();
   app.add_option("--screenshot", screenshot, "Viewer: simulate --frames frames, save a PNG and exit");
   app.add_flag("--quiet", quiet, "Headless: no progress output");
+  app.add_option("--threads", threads, "Solver threads (0: all cores)")->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_flag("--version", version, "Print the version and exit");
   try {
     app.parse(argc, argv);
@@ -54,7 +56,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "weft: --screenshot needs the viewer; it cannot be combined with --headless\n");
       return 2;
     }
-    return weft::run_headless({scene_path, overrides, out_dir, frames, quiet});
+    return weft::run_headless({scene_path, overrides, out_dir, frames, quiet, threads});
   }
 #ifdef WEFT_HAS_VIEWER
   weft::ViewerOptions options;

@@ -1,5 +1,8 @@
 #include "sim/world.hpp"
 
+#include <omp.h>
+
+#include <Eigen/Core>
 #include <chrono>
 #include <cmath>
 
@@ -30,6 +33,10 @@ void World::add_collider(Collider collider) { colliders_.push_back(std::move(col
 void World::step() {
   const auto step_start = Clock::now();
   StepStats stats;
+  // Threads for our loops and for Eigen's sparse products (row-parallel, so results do not
+  // depend on the count).
+  omp_set_num_threads(std::max(1, settings.threads));
+  Eigen::setNbThreads(std::max(1, settings.threads));
   const int substeps = std::max(1, settings.substeps);
   const double h = settings.time_step / substeps;
   for (int substep = 0; substep < substeps; ++substep) {
@@ -105,6 +112,20 @@ Energies World::energies() const {
     energies.terms.gravity += terms.gravity;
   }
   return energies;
+}
+
+StepStats& StepStats::operator+=(const StepStats& step) {
+  move_colliders_ms += step.move_colliders_ms;
+  integrate_ms += step.integrate_ms;
+  collisions_ms += step.collisions_ms;
+  total_ms += step.total_ms;
+  contacts = step.contacts;
+  newton_iterations += step.newton_iterations;
+  linear_iterations += step.linear_iterations;
+  accepted_steps += step.accepted_steps;
+  rejected_steps += step.rejected_steps;
+  residual = std::max(residual, step.residual);
+  return *this;
 }
 
 FrameSchedule frame_schedule(double fps, double max_time_step) {

@@ -20,6 +20,7 @@ struct SolverSettings {
   Vec3 gravity{0.0, -9.81, 0.0};   // m/s^2
   ImplicitEulerSettings implicit;  // Newton and linear solver (implicit_euler)
   AdaptiveSettings adaptive;       // adaptive sub-stepping (symplectic_euler, midpoint)
+  int threads = 1;                 // OpenMP threads for the step (1: serial; results do not depend on it)
 };
 
 struct Energies {
@@ -42,6 +43,9 @@ struct StepStats {
   int accepted_steps = 0;          // adaptive stepping: steps taken
   int rejected_steps = 0;          // adaptive stepping: steps retried smaller
   double residual = 0.0;           // implicit Euler: largest final gradient norm over cloths
+
+  // Sums the counts and times of `step` into this (the residual keeps the largest).
+  StepStats& operator+=(const StepStats& step);
 };
 
 class World {

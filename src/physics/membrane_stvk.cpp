@@ -1,0 +1,189 @@
+#include "physics/membrane_stvk.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace weft {
+
+namespace {
+
+constexpr double sqrt2 = 1.41421356237309504880;
+
+using Matrix32d = Eigen::Matrix<double, 3, 2>;
+
+// Principal values of the symmetric [[a, b], [b, d]] and the direction of the larger one,
+// v_max = (cos t, sin t) with t = atan2(2b, a - d)/2, kept as cos 2t and sin 2t (no trig).
+struct Principal {
+  double e_max;
+  double e_min;
+  double radius;  // (e_max - e_min)/2
+  double cos2;
+  double sin2;
+};
+
+Principal principal(double a, double b, double d) {
+  const double half_difference = 0.5 * (a - d);
+  const double radius = std::sqrt(half_difference * half_difference + b * b);
+  const double mean = 0.5 * (a + d);
+  Principal p{mean + radius, mean - radius, radius, 1.0, 0.0};
+  if (radius > 0.0) {
+    p.cos2 = half_difference / radius;
+    p.sin2 = b / radius;
+  }
+  return p;
+}
+
+// v_max v_max^T = [[cos^2 t, cos t sin t], [cos t sin t, sin^2 t]]; v_min v_min^T = I - that.
+Eigen::Matrix2d max_projector(const Principal& p) {
+  const double cs = 0.5 * p.sin2;
+  Eigen::Matrix2d m;
+  m << 0.5 * (1.0 + p.cos2), cs, cs, 0.5 * (1.0 - p.cos2);
+  return m;
+}
+
+Matrix32d deformation_gradient(const Vec3& x0, const Vec3& x1, const Vec3& x2, const MembraneRest& rest) {
+  Matrix32d ds;
+  ds << x1 - x0, x2 - x0;
+  return ds * rest.dm_inverse;
+}
+
+// E = (F^T F - I)/2, built from column dot products so that it is exactly symmetric.
+Eigen::Matrix2d green_strain_of(const Matrix32d& f) {
+  const double off_diagonal = 0.5 * f.col(0).dot(f.col(1));
+  Eigen::Matrix2d e;
+  e << 0.5 * (f.col(0).squaredNorm() - 1.0), off_diagonal, off_diagonal, 0.5 * (f.col(1).squaredNorm() - 1.0);
+  return e;
+}
+
+}  // namespace
+
+MembraneRest membrane_rest(const Vec3& x0, const Vec3& x1, const Vec3& x2) {
+  const Vec3 e1 = x1 - x0;
+  const Vec3 e2 = x2 - x0;
+  const double twice_area = e1.cross(e2).norm();
+  if (!(twice_area > 1e-14 * std::max(e1.squaredNorm(), e2.squaredNorm())) || !std::isfinite(twice_area)) {
+    throw std::invalid_argument("membrane_rest: triangle has zero area");
+  }
+  // Rest edges in the frame (t, b): t along e1, b in the plane, perpendicular to t.
+  const double length1 = e1.norm();
+  Eigen::Matrix2d dm;
+  dm << length1, e2.dot(e1) / length1, 0.0, twice_area / length1;
+  return MembraneRest{dm.inverse(), 0.5 * twice_area};
+}
+
+Eigen::Matrix2d green_strain(const Vec3& x0, const Vec3& x1, const Vec3& x2, const MembraneRest& rest) {
+  return green_strain_of(deformation_gradient(x0, x1, x2, rest));
+}
+
+double membrane_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const MembraneRest& rest,
+                       const MembraneMaterial& material, Vector9d* gradient, Matrix9d* hessian) {
+  const Matrix32d f = deformation_gradient(x0, x1, x2, rest);
+  const Eigen::Matrix2d strain = green_strain_of(f);
+  const double young = material.young_modulus;
+  const double nu = material.poisson_ratio;
+  const double mu = young / (2.0 * (1.0 + nu));
+  const double lambda = young * nu / (1.0 - nu * nu);
+  const double c = material.compression_factor;
+  const double a = strain(0, 0);
+  const double b = strain(0, 1);
+  const double d = strain(1, 1);
+  const Principal p = principal(a, b, d);
+
+  // psi, the stress S = dpsi/dE and the tangent C = d2psi/dE2, symmetric tensors in Mandel
+  // notation (E11, E22, sqrt2 E12) so that S : dE = s . de and dE : C : dE = de^T C de.
+  double psi;
+  Eigen::Vector3d stress;
+  Eigen::Matrix3d tangent;
+  if (p.e_min >= 0.0 || p.e_max <= 0.0) {
+    // Both principal strains on one side of zero: the split is trivial, psi_mu = k mu |E|^2.
+    const double k = p.e_min >= 0.0 ? 1.0 : c;
+    psi = k * mu * (a * a + d * d + 2.0 * b * b);
+    stress = 2.0 * k * mu * Eigen::Vector3d(a, d, sqrt2 * b);
+    tangent = 2.0 * k * mu * Eigen::Matrix3d::Identity();
+  } else {
+    // e_max > 0 > e_min: psi_mu = mu (g(e_max) + g(e_min)), g(t) = t^2 (t > 0), c t^2 (t < 0).
+    // Spectral derivatives (Daleckii-Krein) in the principal frame: S = diag(g'(e_i)) and
+    // C = diag(g''(e_max), g''(e_min), (g'(e_max) - g'(e_min))/(e_max - e_min)). The divided
+    // difference (e_max - c e_min)/r lies in [2c, 2] because r = (e_max - e_min)/2 > |e_i|.
+    const double cc = 0.5 * (1.0 + p.cos2);
+    const double ss = 0.5 * (1.0 - p.cos2);
+    const double cs = 0.5 * p.sin2;
+    psi = mu * (p.e_max * p.e_max + c * p.e_min * p.e_min);
+    // S = s_max v_max v_max^T + s_min v_min v_min^T.
+    const double s_max = 2.0 * mu * p.e_max;
+    const double s_min = 2.0 * mu * c * p.e_min;
+    stress << s_max * cc + s_min * ss, s_max * ss + s_min * cc, sqrt2 * (s_max - s_min) * cs;
+    // Mandel rotation into the principal frame (orthogonal), de_principal = q de.
+    Eigen::Matrix3d q;
+    q << cc, ss, sqrt2 * cs, ss, cc, -sqrt2 * cs, -sqrt2 * cs, sqrt2 * cs, cc - ss;
+    const Eigen::Vector3d principal_tangent(2.0 * mu, 2.0 * mu * c, mu * (p.e_max - c * p.e_min) / p.radius);
+    tangent.noalias() = q.transpose() * principal_tangent.asDiagonal() * q;
+  }
+  // Volumetric part lambda/2 g(tr E).
+  const double trace = a + d;
+  const double kt = trace >= 0.0 ? 1.0 : c;
+  psi += 0.5 * lambda * kt * trace * trace;
+  stress.head<2>().array() += lambda * kt * trace;
+  tangent.topLeftCorner<2, 2>().array() += lambda * kt;
+
+  const double volume = rest.area * material.thickness;
+  if (!gradient && !hessian) return volume * psi;
+
+  // dF_j = sum_v w(j, v) dx_v (F = Ds Dm^-1, rows of Dm^-1 weight x1 - x0 and x2 - x0).
+  const Eigen::Matrix2d& dinv = rest.dm_inverse;
+  Eigen::Matrix<double, 2, 3> w;
+  w << -(dinv(0, 0) + dinv(1, 0)), dinv(0, 0), dinv(1, 0), -(dinv(0, 1) + dinv(1, 1)), dinv(0, 1), dinv(1, 1);
+  // de = l dx (Mandel): dE11 = F0.dF0, dE22 = F1.dF1, sqrt2 dE12 = (F0.dF1 + F1.dF0)/sqrt2.
+  Eigen::Matrix<double, 3, 9> l;
+  for (int v = 0; v < 3; ++v) {
+    l.block<1, 3>(0, 3 * v) = w(0, v) * f.col(0).transpose();
+    l.block<1, 3>(1, 3 * v) = w(1, v) * f.col(1).transpose();
+    l.block<1, 3>(2, 3 * v) = (w(1, v) * f.col(0) + w(0, v) * f.col(1)).transpose() / sqrt2;
+  }
+  if (gradient) gradient->noalias() = volume * l.transpose() * stress;
+  if (hessian) {
+    // Material part l^T C l, plus the geometric part S : sym(dF^T dF'): (w^T S w)(v, u) I3.
+    // (lazyProduct: coefficient-wise, Eigen's blocked GEMM path is slow at this size.)
+    const Eigen::Matrix<double, 3, 9> tangent_l = volume * tangent * l;
+    hessian->noalias() = l.transpose().lazyProduct(tangent_l);
+    Eigen::Matrix2d stress_matrix;
+    stress_matrix << stress(0), stress(2) / sqrt2, stress(2) / sqrt2, stress(1);
+    const Eigen::Matrix3d geometric = volume * w.transpose() * stress_matrix * w;
+    for (int v = 0; v < 3; ++v) {
+      for (int u = 0; u < 3; ++u) hessian->block<3, 3>(3 * v, 3 * u).diagonal().array() += geometric(v, u);
+    }
+  }
+  return volume * psi;
+}
+
+bool apply_plastic_yield(const Vec3& x0, const Vec3& x1, const Vec3& x2, MembraneRest& rest,
+                         double yield_strain, double flow_fraction) {
+  if (!(yield_strain >= 0.0) || !(flow_fraction >= 0.0 && flow_fraction <= 1.0)) {
+    throw std::invalid_argument("apply_plastic_yield: needs yield_strain >= 0 and flow_fraction in [0, 1]");
+  }
+  const Eigen::Matrix2d strain = green_strain(x0, x1, x2, rest);
+  const Principal p = principal(strain(0, 0), strain(0, 1), strain(1, 1));
+  if (!(std::max(std::abs(p.e_max), std::abs(p.e_min)) > yield_strain) || flow_fraction == 0.0) return false;
+  if (!(1.0 + 2.0 * p.e_min > 1e-12)) return false;  // collapsed: no metric to flow towards
+
+  // Target strain t with the excess over the yield strain shrunk by flow_fraction; the rest
+  // stretch rho = sqrt((1 + 2e)/(1 + 2t)) makes the new Green strain exactly t.
+  const auto rest_stretch = [&](double e) {
+    const double excess = std::abs(e) - yield_strain;
+    const double t = excess > 0.0 ? std::copysign(yield_strain + (1.0 - flow_fraction) * excess, e) : e;
+    return std::sqrt((1.0 + 2.0 * e) / (1.0 + 2.0 * t));
+  };
+  const double rho_max = rest_stretch(p.e_max);
+  const double rho_min = rest_stretch(p.e_min);
+
+  // New rest edges U Dm: dm_inverse <- dm_inverse U^-1, area <- area det U.
+  const Eigen::Matrix2d projector = max_projector(p);
+  const Eigen::Matrix2d u_inverse =
+      projector / rho_max + (Eigen::Matrix2d::Identity() - projector) / rho_min;
+  rest.dm_inverse = (rest.dm_inverse * u_inverse).eval();
+  rest.area *= rho_max * rho_min;
+  return true;
+}
+
+}  // namespace weft
