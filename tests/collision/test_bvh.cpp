@@ -342,13 +342,14 @@ TEST(Bvh, SteadyStateQueriesReuseTheirBuffers) {
   std::vector<TrianglePair> pairs;
   find_self_pairs(bvh, buffers, pairs);
   const TrianglePair* pairs_data = pairs.data();
-  const TrianglePair* tasks_data = buffers.tasks.data();
   const std::size_t capacity = pairs.capacity();
+  std::vector<const TrianglePair*> thread_data;
+  for (const std::vector<TrianglePair>& found : buffers.thread_pairs) thread_data.push_back(found.data());
   bvh.refit(grid.positions, 0.003);
   find_self_pairs(bvh, buffers, pairs);
   EXPECT_EQ(pairs.data(), pairs_data);
   EXPECT_EQ(pairs.capacity(), capacity);
-  EXPECT_EQ(buffers.tasks.data(), tasks_data);
+  for (std::size_t k = 0; k < thread_data.size(); ++k) EXPECT_EQ(buffers.thread_pairs[k].data(), thread_data[k]);
 }
 
 TEST(Bvh, RebuildTriggerFiresWhenScrambled) {
