@@ -164,14 +164,27 @@ void find_pairs(const Bvh& first, const Bvh& second, BvhQueryBuffers& buffers,
     }
   }
 
-  // Merge in thread order, then sort: the result does not depend on which thread found what.
+  // Sort by counting: bucket the pairs by their first triangle, then sort each small bucket by
+  // the second. Linear in the pairs, and the order does not depend on which thread found what.
+  std::vector<int>& bucket_ends = buffers.bucket_ends;
+  bucket_ends.assign(first.num_triangles() + 1, 0);
   std::size_t total = 0;
-  for (const std::vector<TrianglePair>& found : buffers.thread_pairs) total += found.size();
+  for (const std::vector<TrianglePair>& found : buffers.thread_pairs) {
+    total += found.size();
+    for (const TrianglePair& pair : found) ++bucket_ends[pair.a + 1];
+  }
+  // Exclusive prefix sums: bucket_ends[a] is where bucket a starts; scattering advances it to
+  // where bucket a ends.
+  for (int a = 0; a < first.num_triangles(); ++a) bucket_ends[a + 1] += bucket_ends[a];
   pairs.resize(total);
-  auto out = pairs.begin();
-  for (const std::vector<TrianglePair>& found : buffers.thread_pairs)
-    out = std::copy(found.begin(), found.end(), out);
-  std::sort(pairs.begin(), pairs.end());
+  for (const std::vector<TrianglePair>& found : buffers.thread_pairs) {
+    for (const TrianglePair& pair : found) pairs[bucket_ends[pair.a]++] = pair;
+  }
+  int bucket_start = 0;
+  for (int a = 0; a < first.num_triangles(); ++a) {
+    std::sort(pairs.begin() + bucket_start, pairs.begin() + bucket_ends[a]);
+    bucket_start = bucket_ends[a];
+  }
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 }
 

@@ -121,13 +121,14 @@ struct TrianglePair {
 };
 
 // Scratch space of the pair queries, kept by the caller between steps so that steady-state
-// queries do not allocate: the node-pair tasks handed to threads, and each thread's traversal
-// stack and found pairs.
+// queries do not allocate: the node-pair tasks handed to threads, each thread's traversal stack
+// and found pairs, and the buckets of the final sort.
 struct BvhQueryBuffers {
   std::vector<TrianglePair> tasks;                       // node pairs (a == b: "within node a")
   std::vector<TrianglePair> next_tasks;                  // scratch while splitting tasks
   std::vector<std::vector<TrianglePair>> thread_stacks;  // node pairs still to visit, per thread
   std::vector<std::vector<TrianglePair>> thread_pairs;   // triangle pairs found, per thread
+  std::vector<int> bucket_ends;                          // counting sort by first triangle
 };
 
 // Pairs of triangles of one mesh whose boxes overlap, skipping pairs that share a vertex;
