@@ -74,10 +74,11 @@ bool split_task(const std::vector<BvhNode>& first, const std::vector<BvhNode>& s
 }
 
 // Triangle pairs of leaf `a` of `first` against leaf `b` of `second` whose boxes overlap.
-// With `self`, (a, a) means pairs within the leaf; pairs sharing a vertex are skipped and each
-// pair is written with the smaller triangle first.
+// With `self`, (a, a) means pairs within the leaf, each pair is written with the smaller
+// triangle first, and pairs sharing a vertex are skipped unless `keep_neighbours`.
 template <bool self>
-void leaf_pairs(const Bvh& first, const Bvh& second, int a, int b, std::vector<TrianglePair>& found) {
+void leaf_pairs(const Bvh& first, const Bvh& second, int a, int b, bool keep_neighbours,
+                std::vector<TrianglePair>& found) {
   const BvhNode& leaf_a = first.nodes()[a];
   const BvhNode& leaf_b = second.nodes()[b];
   const std::vector<int>& order_a = first.triangle_order();
@@ -91,7 +92,7 @@ void leaf_pairs(const Bvh& first, const Bvh& second, int a, int b, std::vector<T
       const int t = order_b[leaf_b.first + j];
       if (!box_s.overlaps(boxes_b[t])) continue;
       if (self) {
-        if (share_vertex(first.triangles(), s, t)) continue;
+        if (!keep_neighbours && share_vertex(first.triangles(), s, t)) continue;
         found.push_back({std::min(s, t), std::max(s, t)});
       } else {
         found.push_back({s, t});
@@ -102,24 +103,24 @@ void leaf_pairs(const Bvh& first, const Bvh& second, int a, int b, std::vector<T
 
 // Visits node pair `task` and everything below it depth first, appending triangle pairs.
 template <bool self>
-void traverse(const Bvh& first, const Bvh& second, TrianglePair task, std::vector<TrianglePair>& stack,
-              std::vector<TrianglePair>& found) {
+void traverse(const Bvh& first, const Bvh& second, TrianglePair task, bool keep_neighbours,
+              std::vector<TrianglePair>& stack, std::vector<TrianglePair>& found) {
   stack.clear();
   stack.push_back(task);
   while (!stack.empty()) {
     const TrianglePair top = stack.back();
     stack.pop_back();
     if (!split_task<self>(first.nodes(), second.nodes(), top, stack)) {
-      leaf_pairs<self>(first, second, top.a, top.b, found);
+      leaf_pairs<self>(first, second, top.a, top.b, keep_neighbours, found);
     }
   }
 }
 
 // Splits the root task breadth first, serially, until there are enough tasks for the threads,
-// then traverses the tasks in parallel into per-thread lists, and merges, sorts and
-// deduplicates those into `pairs`.
+// then traverses the tasks in parallel into per-thread lists, and sorts and deduplicates those
+// into `pairs`.
 template <bool self>
-void find_pairs(const Bvh& first, const Bvh& second, BvhQueryBuffers& buffers,
+void find_pairs(const Bvh& first, const Bvh& second, bool keep_neighbours, BvhQueryBuffers& buffers,
                 std::vector<TrianglePair>& pairs) {
   pairs.clear();
   if (first.nodes().empty() || second.nodes().empty()) return;
@@ -160,7 +161,7 @@ void find_pairs(const Bvh& first, const Bvh& second, BvhQueryBuffers& buffers,
     std::vector<TrianglePair>& found = buffers.thread_pairs[thread];
 #pragma omp for schedule(dynamic, 1)
     for (int k = 0; k < num_tasks; ++k) {
-      traverse<self>(first, second, tasks[k], stack, found);
+      traverse<self>(first, second, tasks[k], keep_neighbours, stack, found);
     }
   }
 
@@ -359,20 +360,21 @@ void Bvh::refit_nodes() {
   cost_ = root_area > 0.0 ? total_area / root_area : 1.0;
 }
 
-void find_self_pairs(const Bvh& bvh, BvhQueryBuffers& buffers, std::vector<TrianglePair>& pairs) {
-  find_pairs<true>(bvh, bvh, buffers, pairs);
+void find_self_pairs(const Bvh& bvh, BvhQueryBuffers& buffers, std::vector<TrianglePair>& pairs,
+                     SharedVertexPairs shared_vertex_pairs) {
+  find_pairs<true>(bvh, bvh, shared_vertex_pairs == SharedVertexPairs::keep, buffers, pairs);
 }
 
-std::vector<TrianglePair> find_self_pairs(const Bvh& bvh) {
+std::vector<TrianglePair> find_self_pairs(const Bvh& bvh, SharedVertexPairs shared_vertex_pairs) {
   BvhQueryBuffers buffers;
   std::vector<TrianglePair> pairs;
-  find_self_pairs(bvh, buffers, pairs);
+  find_self_pairs(bvh, buffers, pairs, shared_vertex_pairs);
   return pairs;
 }
 
 void find_pairs_between(const Bvh& first, const Bvh& second, BvhQueryBuffers& buffers,
                         std::vector<TrianglePair>& pairs) {
-  find_pairs<false>(first, second, buffers, pairs);
+  find_pairs<false>(first, second, false, buffers, pairs);
 }
 
 std::vector<TrianglePair> find_pairs_between(const Bvh& first, const Bvh& second) {

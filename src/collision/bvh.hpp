@@ -131,10 +131,19 @@ struct BvhQueryBuffers {
   std::vector<int> bucket_ends;                          // counting sort by first triangle
 };
 
-// Pairs of triangles of one mesh whose boxes overlap, skipping pairs that share a vertex;
-// each pair once with a < b, sorted. Replaces the contents of `pairs`.
-void find_self_pairs(const Bvh& bvh, BvhQueryBuffers& buffers, std::vector<TrianglePair>& pairs);
-std::vector<TrianglePair> find_self_pairs(const Bvh& bvh);
+// Whether a self query reports pairs of triangles that share a vertex. Skipping them (the
+// default) drops every neighbour pair, but it also drops the vertex-face and edge-edge pairs
+// within two rings of each other that only neighbouring triangles carry, e.g. the far vertex of
+// a hinge folding flat onto the other triangle. `keep` reports them (about 6 more pairs per
+// triangle on a grid); add_self_candidates() then skips only primitives that share a vertex.
+enum class SharedVertexPairs { skip, keep };
+
+// Pairs of triangles of one mesh whose boxes overlap; each pair once with a < b, sorted.
+// Replaces the contents of `pairs`.
+void find_self_pairs(const Bvh& bvh, BvhQueryBuffers& buffers, std::vector<TrianglePair>& pairs,
+                     SharedVertexPairs shared_vertex_pairs = SharedVertexPairs::skip);
+std::vector<TrianglePair> find_self_pairs(const Bvh& bvh,
+                                          SharedVertexPairs shared_vertex_pairs = SharedVertexPairs::skip);
 
 // Pairs (triangle of `first`, triangle of `second`) whose boxes overlap, for two different
 // meshes (cloth-cloth, cloth-obstacle); sorted. Replaces the contents of `pairs`.

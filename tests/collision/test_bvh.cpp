@@ -7,6 +7,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <iterator>
 #include <numeric>
 #include <random>
 #include <stdexcept>
@@ -101,12 +102,14 @@ bool share_a_vertex(const Triangles& triangles, int s, int t) {
 }
 
 std::vector<TrianglePair> brute_force_self(const Positions& x_start, const Positions& x_end,
-                                           const Triangles& triangles, double margin) {
+                                           const Triangles& triangles, double margin,
+                                           bool keep_neighbours = false) {
   const std::vector<Aabb> boxes = reference_boxes(x_start, x_end, triangles, margin);
   std::vector<TrianglePair> pairs;
   for (int s = 0; s < triangles.cols(); ++s) {
     for (int t = s + 1; t < triangles.cols(); ++t) {
-      if (boxes_overlap(boxes[s], boxes[t]) && !share_a_vertex(triangles, s, t)) pairs.push_back({s, t});
+      if (!keep_neighbours && share_a_vertex(triangles, s, t)) continue;
+      if (boxes_overlap(boxes[s], boxes[t])) pairs.push_back({s, t});
     }
   }
   return pairs;
@@ -230,6 +233,25 @@ TEST(Bvh, SelfPairsMatchBruteForceOnCrumpledGrids) {
     const std::vector<TrianglePair> expected = brute_force_self(grid.positions, x_end, grid.triangles, 0.004);
     EXPECT_GT(expected.size(), 500u);
     EXPECT_EQ(find_self_pairs(bvh), expected) << "seed " << seed;
+  }
+}
+
+TEST(Bvh, SelfPairsCanKeepNeighbours) {
+  for (unsigned seed = 0; seed < 2; ++seed) {
+    const TriangleMesh grid = crumpled_grid(21, seed + 80);
+    const TriangleMesh soup = random_soup(300, 0.05, seed + 90);
+    for (const TriangleMesh* mesh : std::vector<const TriangleMesh*>{&grid, &soup}) {
+      Bvh bvh;
+      bvh.build(mesh->positions, mesh->triangles, 0.004);
+      const std::vector<TrianglePair> all = find_self_pairs(bvh, SharedVertexPairs::keep);
+      EXPECT_EQ(all, brute_force_self(mesh->positions, mesh->positions, mesh->triangles, 0.004, true));
+      // The extra pairs are exactly the neighbours.
+      const std::vector<TrianglePair> skipped = find_self_pairs(bvh);
+      std::vector<TrianglePair> neighbours;
+      std::set_difference(all.begin(), all.end(), skipped.begin(), skipped.end(), std::back_inserter(neighbours));
+      EXPECT_EQ(neighbours.size() + skipped.size(), all.size());
+      for (const TrianglePair& pair : neighbours) EXPECT_TRUE(share_a_vertex(mesh->triangles, pair.a, pair.b));
+    }
   }
 }
 

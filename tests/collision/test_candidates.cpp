@@ -114,6 +114,30 @@ TEST(Candidates, SharedVertexIsSkipped) {
   }
 }
 
+TEST(Candidates, AHingeFoldedFlatNeedsTheNeighbourPair) {
+  // Triangles (0, 1, 2) and (1, 0, 3) share the edge 0-1; vertex 3 is folded over onto the
+  // first triangle, 1e-3 above it.
+  Positions x(3, 4);
+  x << 0.0, 1.0, 0.3, 0.3,  //
+      0.0, 0.0, 1.0, 0.5,   //
+      0.0, 0.0, 0.0, 1e-3;
+  Triangles triangles(3, 2);
+  triangles << 0, 1, 1, 0, 2, 3;
+  const MeshTopology topology = build_topology(triangles, 4);
+  Bvh bvh;
+  bvh.build(x, triangles, 0.01);
+  const VertexFacePair folded{3, 0};
+
+  CollisionCandidates skipping;
+  add_self_candidates(find_self_pairs(bvh), {triangles, topology, {}}, skipping);
+  EXPECT_TRUE(skipping.vertex_face.empty()) << "the only pair shares a vertex and is skipped";
+
+  CollisionCandidates keeping;
+  add_self_candidates(find_self_pairs(bvh, SharedVertexPairs::keep), {triangles, topology, {}}, keeping);
+  EXPECT_EQ(keeping.vertex_face, (std::vector<VertexFacePair>{{2, 1}, folded}));
+  EXPECT_TRUE(keeping.edge_edge.empty()) << "every edge of one touches the shared edge's ends";
+}
+
 TEST(Candidates, SelfCandidatesOnAGridMatchTheReference) {
   const TriangleMesh grid = make_grid(12, 9, 1.0, 1.0, GridTriangulation::alternating);
   const MeshTopology topology = build_topology(grid.triangles, grid.num_vertices());
