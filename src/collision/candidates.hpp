@@ -13,33 +13,10 @@
 #include <vector>
 
 #include "collision/bvh.hpp"
+#include "collision/contact_pairs.hpp"
 #include "core/topology.hpp"
 
 namespace weft {
-
-struct VertexFacePair {
-  int vertex;    // combined vertex index
-  int triangle;  // combined triangle index; the vertex is not one of its corners
-
-  bool operator==(const VertexFacePair& other) const {
-    return vertex == other.vertex && triangle == other.triangle;
-  }
-  bool operator<(const VertexFacePair& other) const {
-    return vertex != other.vertex ? vertex < other.vertex : triangle < other.triangle;
-  }
-};
-
-struct EdgeEdgePair {
-  int edge_a;  // combined edge indices, edge_a < edge_b; the edges share no vertex
-  int edge_b;
-
-  bool operator==(const EdgeEdgePair& other) const {
-    return edge_a == other.edge_a && edge_b == other.edge_b;
-  }
-  bool operator<(const EdgeEdgePair& other) const {
-    return edge_a != other.edge_a ? edge_a < other.edge_a : edge_b < other.edge_b;
-  }
-};
 
 // Where one mesh's vertices, triangles and edges start in the world's combined index spaces.
 struct MeshIndexOffsets {

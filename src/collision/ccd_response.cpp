@@ -1,5 +1,7 @@
 #include "collision/ccd_response.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 
 #include "collision/edge_edge_ccd.hpp"
@@ -69,11 +71,28 @@ void detect_collisions(const CollisionStep& step, const std::vector<VertexFacePa
                        const std::vector<EdgeEdgePair>& edge_edges, const ResponseSettings& settings,
                        std::vector<CcdCollision>& collisions) {
   collisions.clear();
-  for (const VertexFacePair& pair : vertex_faces) {
-    if (const auto collision = detect_collision(step, pair, settings)) collisions.push_back(*collision);
-  }
-  for (const EdgeEdgePair& pair : edge_edges) {
-    if (const auto collision = detect_collision(step, pair, settings)) collisions.push_back(*collision);
+  const int num_vertex_faces = static_cast<int>(vertex_faces.size());
+  const int total = num_vertex_faces + static_cast<int>(edge_edges.size());
+  // Each thread tests a contiguous slice of the pairs and keeps its hits in order; the slices
+  // are joined in thread order, so the list is the same for any number of threads.
+#pragma omp parallel if (total > 256)
+  {
+    std::vector<CcdCollision> found;
+    const int threads = omp_get_num_threads();
+    const int thread = omp_get_thread_num();
+    const int begin = static_cast<int>(static_cast<long long>(total) * thread / threads);
+    const int end = static_cast<int>(static_cast<long long>(total) * (thread + 1) / threads);
+    for (int k = begin; k < end; ++k) {
+      const std::optional<CcdCollision> collision =
+          k < num_vertex_faces ? detect_collision(step, vertex_faces[k], settings)
+                               : detect_collision(step, edge_edges[k - num_vertex_faces], settings);
+      if (collision) found.push_back(*collision);
+    }
+#pragma omp for ordered schedule(static, 1)
+    for (int t = 0; t < threads; ++t) {
+#pragma omp ordered
+      collisions.insert(collisions.end(), found.begin(), found.end());
+    }
   }
 }
 

@@ -7,6 +7,10 @@ namespace weft {
 
 enum class ContactKind { vertex_face, edge_edge };
 
+// What touched: two cloths (or one cloth itself), a cloth and a collider, or a soft body (a
+// closed mesh with pressure) and anything.
+enum class ContactPartners { cloth_cloth, cloth_solid, soft_body };
+
 struct ContactRecord {
   Vec3 position = Vec3::Zero();  // vertex (vertex-face) or closest point on edge_a (edge-edge)
   ContactKind kind = ContactKind::vertex_face;
@@ -14,6 +18,7 @@ struct ContactRecord {
   double impulse = 0.0;  // magnitude of the normal impulse applied (kg m/s)
   int primitive_a = -1;  // vertex (vertex-face) or edge_a (edge-edge)
   int primitive_b = -1;  // triangle (vertex-face) or edge_b (edge-edge)
+  ContactPartners partners = ContactPartners::cloth_cloth;  // set by the world, which knows the meshes
 };
 
 }  // namespace weft

@@ -165,7 +165,11 @@ Cloth build_cloth(const ClothDesc& desc, const SceneDesc& scene, int index) {
   model.triangles = std::move(mesh.triangles);
   model.uvs = std::move(mesh.uvs);
   model.rest_positions = std::move(mesh.positions);
-  return make_cloth(std::move(model));
+  Cloth cloth = make_cloth(std::move(model));
+  for (int i = 0; i < cloth.num_vertices(); ++i) {
+    if (cloth.model.inverse_mass[i] > 0.0) cloth.state.v.col(i) = desc.initial_velocity;
+  }
+  return cloth;
 }
 
 }  // namespace
@@ -178,10 +182,26 @@ World build_world(const SceneDesc& scene) {
   world.settings.gravity = scene.gravity;
   world.settings.implicit = scene.implicit;
   world.settings.adaptive = scene.adaptive;
+  world.settings.collision = scene.collision;
   for (size_t k = 0; k < scene.cloths.size(); ++k) {
-    world.add_cloth(build_cloth(scene.cloths[k], scene, static_cast<int>(k)));
+    world.add_cloth(build_cloth(scene.cloths[k], scene, static_cast<int>(k)), scene.cloths[k].contact);
   }
-  for (const Collider& collider : scene.colliders) world.add_collider(collider);
+  for (size_t k = 0; k < scene.colliders.size(); ++k) {
+    Collider collider = scene.colliders[k];
+    if (collider.shape == ColliderShape::mesh) {
+      // OBJ files are resolved against the scene file's folder, like cloth meshes.
+      std::filesystem::path file(collider.obj_file);
+      if (file.is_relative()) file = std::filesystem::path(scene.source_file).parent_path() / file;
+      const std::string path = "/colliders/" + std::to_string(k) + "/obj";
+      try {
+        collider.mesh = read_obj(file.string());
+      } catch (const IoError& error) {
+        throw SceneError(scene.source_file, path, error.what());
+      }
+      if (collider.mesh.num_triangles() == 0) throw SceneError(scene.source_file, path, "the OBJ file has no triangles");
+    }
+    world.add_collider(std::move(collider));
+  }
   return world;
 }
 

@@ -167,7 +167,8 @@ const std::vector<std::pair<std::string, GridTriangulation>> triangulation_names
     {"alternating", GridTriangulation::alternating},
     {"cross", GridTriangulation::cross}};
 const std::vector<std::pair<std::string, ColliderShape>> collider_shape_names = {
-    {"plane", ColliderShape::plane}, {"sphere", ColliderShape::sphere}, {"box", ColliderShape::box}};
+    {"plane", ColliderShape::plane},     {"sphere", ColliderShape::sphere},     {"box", ColliderShape::box},
+    {"capsule", ColliderShape::capsule}, {"cylinder", ColliderShape::cylinder}, {"mesh", ColliderShape::mesh}};
 const std::vector<std::pair<std::string, IntegratorKind>> integrator_names = {
     {"symplectic_euler", IntegratorKind::symplectic_euler},
     {"midpoint", IntegratorKind::midpoint},
@@ -314,6 +315,14 @@ ClothDesc read_cloth(const json& value, const std::string& path, const std::stri
   }
   reader.number("thickness", cloth.thickness, positive);
   reader.number("mass_damping", cloth.mass_damping, non_negative);
+  if (const json* friction_value = reader.find("friction")) {
+    ObjectReader friction(*friction_value, reader.path_of("friction"), file);
+    friction.number("static", cloth.contact.static_friction, non_negative);
+    friction.number("kinetic", cloth.contact.kinetic_friction, non_negative);
+    friction.finish();
+  }
+  reader.boolean("self_collision", cloth.contact.self_collision);
+  reader.vec3("initial_velocity", cloth.initial_velocity);
   if (const json* pins_value = reader.find("pins")) {
     ObjectReader pins(*pins_value, reader.path_of("pins"), file);
     cloth.pins = read_pin_selection(pins);
@@ -343,23 +352,34 @@ ClothDesc read_cloth(const json& value, const std::string& path, const std::stri
   return cloth;
 }
 
+// A unit vector; `what` names it in the error.
+void read_direction(ObjectReader& reader, const std::string& key, Vec3& out) {
+  reader.vec3(key, out);
+  const double length = out.norm();
+  if (!(length > 1e-12)) reader.fail(reader.path_of(key), "expected a non-zero vector");
+  out /= length;
+}
+
 Collider read_collider(const json& value, const std::string& path, const std::string& file) {
   Collider collider;
   ObjectReader reader(value, path, file);
-  if (!reader.has("type")) reader.fail(path, "missing \"type\": expected one of \"plane\", \"sphere\", \"box\"");
+  if (!reader.has("type")) {
+    reader.fail(path, "missing \"type\": expected one of \"plane\", \"sphere\", \"box\", \"capsule\", "
+                      "\"cylinder\", \"mesh\"");
+  }
   reader.enumeration("type", collider.shape, collider_shape_names);
   reader.string("name", collider.name);
   if (collider.name.empty()) collider.name = to_string(collider.shape);
+  // "friction" is the kinetic coefficient and, unless "static_friction" says otherwise, the static one.
   reader.number("friction", collider.friction, non_negative);
+  collider.static_friction = collider.friction;
+  reader.number("static_friction", collider.static_friction, non_negative);
   switch (collider.shape) {
-    case ColliderShape::plane: {
+    case ColliderShape::plane:
       reader.vec3("point", collider.center);
-      reader.vec3("normal", collider.normal);
-      const double length = collider.normal.norm();
-      if (length < 1e-12) reader.fail(reader.path_of("normal"), "expected a non-zero vector");
-      collider.normal /= length;
+      read_direction(reader, "normal", collider.normal);
+      reader.number("half_size", collider.plane_half_size, positive);
       break;
-    }
     case ColliderShape::sphere:
       reader.vec3("center", collider.center);
       reader.number("radius", collider.radius, positive);
@@ -373,6 +393,29 @@ Collider read_collider(const json& value, const std::string& path, const std::st
         }
       }
       break;
+    case ColliderShape::capsule:
+    case ColliderShape::cylinder:
+      reader.vec3("center", collider.center);
+      read_direction(reader, "axis", collider.axis);
+      reader.number("radius", collider.radius, positive);
+      reader.number("half_length", collider.half_length, positive);
+      if (collider.shape == ColliderShape::cylinder) reader.boolean("capped", collider.capped);
+      break;
+    case ColliderShape::mesh:
+      if (!reader.has("obj")) reader.fail(path, "missing \"obj\": a mesh collider needs an OBJ file");
+      reader.string("obj", collider.obj_file);
+      if (collider.obj_file.empty()) reader.fail(reader.path_of("obj"), "expected a file name");
+      break;
+  }
+  if (const json* motion_value = reader.find("motion")) {
+    ObjectReader motion(*motion_value, reader.path_of("motion"), file);
+    motion.vec3("velocity", collider.motion.velocity);
+    motion.vec3("pivot", collider.motion.pivot);
+    if (motion.has("axis")) read_direction(motion, "axis", collider.motion.axis);
+    double degrees = 0.0;
+    motion.number("angular_velocity_degrees", degrees);
+    collider.motion.angular_velocity = degrees * pi / 180.0;
+    motion.finish();
   }
   reader.finish();
   return collider;
@@ -433,6 +476,19 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
     for (size_t k = 0; k < cloths->size(); ++k) {
       scene.cloths.push_back(read_cloth((*cloths)[k], "/cloths/" + std::to_string(k), file));
     }
+  }
+  if (const json* collision_value = reader.find("collision")) {
+    ObjectReader collision(*collision_value, "/collision", file);
+    CollisionSettings& settings = scene.collision;
+    collision.boolean("enabled", settings.enabled);
+    collision.number("repulsion_stiffness", settings.repulsion_stiffness, non_negative);
+    collision.number("ccd_tolerance", settings.ccd_tolerance, positive);
+    collision.number("ccd_separation", settings.ccd_separation, unit_closed);
+    collision.integer("max_ccd_passes", settings.max_ccd_passes, 1, 1000);
+    collision.integer("max_impact_zone_passes", settings.max_impact_zone_passes, 1, 10000);
+    collision.integer("max_rounds", settings.max_rounds, 1, 100);
+    collision.number("bvh_rebuild_ratio", settings.bvh.rebuild_ratio, Range{1.0, HUGE_VAL, true, " > 1"});
+    collision.finish();
   }
   if (const json* colliders = reader.find("colliders")) {
     if (!colliders->is_array()) {
@@ -560,6 +616,9 @@ json scene_to_json(const SceneDesc& scene) {
     }
     item["thickness"] = cloth.thickness;
     item["mass_damping"] = cloth.mass_damping;
+    item["friction"] = {{"static", cloth.contact.static_friction}, {"kinetic", cloth.contact.kinetic_friction}};
+    item["self_collision"] = cloth.contact.self_collision;
+    item["initial_velocity"] = to_json(cloth.initial_velocity);
     const auto selection = [](const PinSelection& s) {
       return json{{"vertices", s.vertices}, {"corners", s.corners}, {"edges", s.edges}};
     };
@@ -575,13 +634,25 @@ json scene_to_json(const SceneDesc& scene) {
     }
     document["cloths"].push_back(item);
   }
+  document["collision"] = {{"enabled", scene.collision.enabled},
+                           {"repulsion_stiffness", scene.collision.repulsion_stiffness},
+                           {"ccd_tolerance", scene.collision.ccd_tolerance},
+                           {"ccd_separation", scene.collision.ccd_separation},
+                           {"max_ccd_passes", scene.collision.max_ccd_passes},
+                           {"max_impact_zone_passes", scene.collision.max_impact_zone_passes},
+                           {"max_rounds", scene.collision.max_rounds},
+                           {"bvh_rebuild_ratio", scene.collision.bvh.rebuild_ratio}};
   document["colliders"] = json::array();
   for (const Collider& collider : scene.colliders) {
-    json item = {{"type", to_string(collider.shape)}, {"name", collider.name}, {"friction", collider.friction}};
+    json item = {{"type", to_string(collider.shape)},
+                 {"name", collider.name},
+                 {"friction", collider.friction},
+                 {"static_friction", collider.static_friction}};
     switch (collider.shape) {
       case ColliderShape::plane:
         item["point"] = to_json(collider.center);
         item["normal"] = to_json(collider.normal);
+        item["half_size"] = collider.plane_half_size;
         break;
       case ColliderShape::sphere:
         item["center"] = to_json(collider.center);
@@ -591,7 +662,22 @@ json scene_to_json(const SceneDesc& scene) {
         item["center"] = to_json(collider.center);
         item["half_extents"] = to_json(collider.half_extents);
         break;
+      case ColliderShape::capsule:
+      case ColliderShape::cylinder:
+        item["center"] = to_json(collider.center);
+        item["axis"] = to_json(collider.axis);
+        item["radius"] = collider.radius;
+        item["half_length"] = collider.half_length;
+        if (collider.shape == ColliderShape::cylinder) item["capped"] = collider.capped;
+        break;
+      case ColliderShape::mesh:
+        item["obj"] = collider.obj_file;
+        break;
     }
+    item["motion"] = {{"velocity", to_json(collider.motion.velocity)},
+                      {"pivot", to_json(collider.motion.pivot)},
+                      {"axis", to_json(collider.motion.axis)},
+                      {"angular_velocity_degrees", collider.motion.angular_velocity * 180.0 / pi}};
     document["colliders"].push_back(item);
   }
   return document;

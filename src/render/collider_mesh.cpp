@@ -1,5 +1,6 @@
 #include "render/collider_mesh.hpp"
 
+#include "collision/collider_geometry.hpp"
 #include "core/mesh_generators.hpp"
 
 namespace weft {
@@ -19,14 +20,25 @@ TriangleMesh collider_mesh(const Collider& collider, double plane_half_size) {
       return split_vertices(make_box(collider.half_extents));
     case ColliderShape::plane:
       return make_grid(2, 2, 2.0 * plane_half_size, 2.0 * plane_half_size, GridTriangulation::regular);
+    case ColliderShape::capsule:
+    case ColliderShape::cylinder:
+    case ColliderShape::mesh: {
+      // The collision pipeline's own surface, moved into the collider's frame.
+      TriangleMesh mesh = collider_surface(collider);
+      mesh.positions.colwise() -= collider.center;
+      return split_vertices(mesh);
+    }
   }
   return {};
 }
 
-Eigen::Isometry3d collider_placement(const Collider& collider, const Vec3& plane_anchor) {
+Eigen::Isometry3d collider_placement(const Collider& collider, const Vec3& plane_anchor, double time) {
   Eigen::Isometry3d placement = Eigen::Isometry3d::Identity();
   if (collider.shape != ColliderShape::plane) {
-    placement.translation() = collider.center;
+    // Scripted motion about the pivot, applied after the shape's own placement.
+    const Mat3 rotation = collider.motion.rotation(time);
+    placement.linear() = rotation;
+    placement.translation() = rotation * collider.center + collider.motion.translation(time);
     return placement;
   }
   const Vec3 normal = collider.normal.normalized();

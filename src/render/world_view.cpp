@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "collision/collider_geometry.hpp"
 #include "render/collider_mesh.hpp"
 
 namespace weft {
@@ -33,7 +34,7 @@ void update_world(Renderer& renderer, const WorldMeshes& meshes, const World& wo
   }
   for (size_t k = 0; k < meshes.colliders.size(); ++k) {
     renderer.set_transform(meshes.colliders[k],
-                           collider_placement(world.colliders()[k], meshes.plane_anchor));
+                           collider_placement(world.colliders()[k], meshes.plane_anchor, world.time()));
   }
 }
 
@@ -54,6 +55,13 @@ Eigen::AlignedBox3d world_bounds(const World& world) {
         break;
       case ColliderShape::plane:
         break;
+      case ColliderShape::capsule:
+      case ColliderShape::cylinder:
+      case ColliderShape::mesh: {
+        const TriangleMesh surface = collider_surface(collider);
+        for (int v = 0; v < surface.num_vertices(); ++v) box.extend(Vec3(surface.positions.col(v)));
+        break;
+      }
     }
   }
   // A plane adds the point of it nearest the rest of the scene: a floor below a hanging cloth

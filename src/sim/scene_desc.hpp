@@ -10,6 +10,7 @@
 #include "physics/implicit_euler.hpp"
 #include "physics/integrator.hpp"
 #include "physics/membrane_stvk.hpp"
+#include "sim/collision_phase.hpp"
 
 namespace weft {
 
@@ -78,7 +79,9 @@ struct ClothDesc {
   double bulk_modulus = 1e4;      // Pa
   double pressure_scale = 1.0;    // target volume / rest volume
 
-  double thickness = 0.005;       // m, contact offset from colliders
+  double thickness = 0.005;       // m, contact distance kept from colliders and other cloth
+  ContactMaterial contact;        // friction coefficients, self-collision on/off
+  Vec3 initial_velocity = Vec3::Zero();  // m/s, every vertex that is not pinned, at time 0
   double mass_damping = 0.0;      // 1/s, damps every vertex velocity: f = -c m v
 
   PinSelection pins;                      // fixed vertices
@@ -99,6 +102,7 @@ struct SceneDesc {
   int frames = 90;                // frames to simulate (the initial state is frame 0)
   std::vector<ClothDesc> cloths;
   std::vector<Collider> colliders;
+  CollisionSettings collision;    // "collision": {...}
 };
 
 }  // namespace weft

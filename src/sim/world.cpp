@@ -6,7 +6,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "collision/placeholder_contact.hpp"
+#include "collision/collider_geometry.hpp"
 #include "physics/cloth_terms.hpp"
 #include "physics/symplectic_euler.hpp"
 
@@ -22,12 +22,23 @@ double milliseconds_since(Clock::time_point start) {
 
 }  // namespace
 
-void World::add_cloth(Cloth cloth) {
+void World::add_cloth(Cloth cloth, ContactMaterial material) {
   cloths_.push_back(std::move(cloth));
   solvers_.push_back(std::make_unique<ClothSolvers>());
+  materials_.push_back(material);
+  collision_meshes_stale_ = true;
 }
 
-void World::add_collider(Collider collider) { colliders_.push_back(std::move(collider)); }
+void World::add_collider(Collider collider) {
+  collider_surfaces_.push_back(weft::collider_surface(collider));
+  colliders_.push_back(std::move(collider));
+  collision_meshes_stale_ = true;
+}
+
+Positions World::collider_positions(int collider) const {
+  const ColliderMotion& motion = colliders_[collider].motion;
+  return (motion.rotation(time_) * collider_surfaces_[collider].positions).colwise() + motion.translation(time_);
+}
 
 // One time step, as the pipeline in DESIGN.md: colliders, integrator, collisions, stats.
 void World::step() {
@@ -39,6 +50,7 @@ void World::step() {
   Eigen::setNbThreads(std::max(1, settings.threads));
   const int substeps = std::max(1, settings.substeps);
   const double h = settings.time_step / substeps;
+  collisions_.reset_stats();
   for (int substep = 0; substep < substeps; ++substep) {
     auto phase_start = Clock::now();
     move_colliders(h);
@@ -49,7 +61,7 @@ void World::step() {
     stats.integrate_ms += milliseconds_since(phase_start);
 
     phase_start = Clock::now();
-    stats.contacts = resolve_collisions(h);
+    resolve_collisions(h, stats);
     stats.collisions_ms += milliseconds_since(phase_start);
 
     time_ += h;
@@ -61,8 +73,21 @@ void World::step() {
   stats_ = stats;
 }
 
-// Colliders are static until the collision issue adds kinematic ones.
-void World::move_colliders(double /*h*/) {}
+// Kinematic colliders follow their scripted motion: the collision phase poses them at both ends
+// of the step (t and t + h), and the step starts from the cloths' current positions.
+void World::move_colliders(double /*h*/) {
+  if (collision_meshes_stale_) {
+    std::vector<ColliderSurface> surfaces;
+    for (size_t k = 0; k < colliders_.size(); ++k) {
+      const Collider& collider = colliders_[k];
+      surfaces.push_back({collider_surfaces_[k].positions, collider_surfaces_[k].triangles, collider.motion,
+                          collider.static_friction, collider.friction});
+    }
+    collisions_.set_meshes(cloths_, materials_, surfaces);
+    collision_meshes_stale_ = false;
+  }
+  collisions_.begin_step(cloths_, time_);
+}
 
 void World::integrate(double h, StepStats& stats) {
   for (size_t c = 0; c < cloths_.size(); ++c) {
@@ -114,12 +139,32 @@ int World::update_rest_state() {
   return yielded;
 }
 
-int World::resolve_collisions(double h) {
-  int contacts = 0;
-  for (Cloth& cloth : cloths_) {
-    contacts += resolve_placeholder_contacts(cloth, colliders_, h);
+// Collision response on the candidate motion (DESIGN.md step 3; collision_phase.hpp).
+void World::resolve_collisions(double h, StepStats& stats) {
+  if (!settings.collision.enabled || cloths_.empty()) return;
+  CollisionPhase& phase = collisions_;
+  phase.settings = settings.collision;
+  phase.gather_motion(cloths_, time_, h);
+  phase.find_candidates();
+  phase.apply_proximity();
+  for (int round = 0; round < std::max(1, settings.collision.max_rounds); ++round) {
+    phase.apply_ccd_impulses();
+    phase.apply_impact_zones();
+    if (!phase.verify_motion()) break;
   }
-  return contacts;
+  phase.scatter_motion(cloths_);
+
+  const CollisionPhaseStats& totals = phase.stats();  // summed over the sub-steps so far
+  stats.broad_phase_ms = totals.broad_ms;
+  stats.narrow_phase_ms = totals.narrow_ms;
+  stats.response_ms = totals.response_ms;
+  stats.vertex_face_candidates = totals.vertex_face_candidates;
+  stats.edge_edge_candidates = totals.edge_edge_candidates;
+  stats.proximity_contacts = totals.proximity_contacts;
+  stats.ccd_impulses = totals.ccd_impulses;
+  stats.impact_zone_vertices = totals.impact_zone_vertices;
+  stats.contacts = totals.proximity_contacts + totals.ccd_impulses;
+  stats.collisions_clean = stats.collisions_clean && totals.clean;
 }
 
 Energies World::energies() const {
@@ -142,7 +187,16 @@ StepStats& StepStats::operator+=(const StepStats& step) {
   collisions_ms += step.collisions_ms;
   total_ms += step.total_ms;
   rest_update_ms += step.rest_update_ms;
+  broad_phase_ms += step.broad_phase_ms;
+  narrow_phase_ms += step.narrow_phase_ms;
+  response_ms += step.response_ms;
   contacts = step.contacts;
+  vertex_face_candidates = step.vertex_face_candidates;
+  edge_edge_candidates = step.edge_edge_candidates;
+  proximity_contacts = step.proximity_contacts;
+  ccd_impulses = step.ccd_impulses;
+  impact_zone_vertices = step.impact_zone_vertices;
+  collisions_clean = collisions_clean && step.collisions_clean;
   yielded_triangles += step.yielded_triangles;
   newton_iterations += step.newton_iterations;
   linear_iterations += step.linear_iterations;

@@ -5,11 +5,13 @@
 #include <vector>
 
 #include "collision/collider.hpp"
+#include "collision/contact_record.hpp"
 #include "physics/adaptive_stepping.hpp"
 #include "physics/cloth.hpp"
 #include "physics/implicit_euler.hpp"
 #include "physics/integrator.hpp"
 #include "physics/midpoint_euler.hpp"
+#include "sim/collision_phase.hpp"
 
 namespace weft {
 
@@ -21,6 +23,7 @@ struct SolverSettings {
   ImplicitEulerSettings implicit;  // Newton and linear solver (implicit_euler)
   AdaptiveSettings adaptive;       // adaptive sub-stepping (symplectic_euler, midpoint)
   int threads = 1;                 // OpenMP threads for the step (1: serial; results do not depend on it)
+  CollisionSettings collision;     // the collision phase (collision_phase.hpp)
 };
 
 struct Energies {
@@ -36,15 +39,24 @@ struct StepStats {
   double move_colliders_ms = 0.0;
   double integrate_ms = 0.0;
   double collisions_ms = 0.0;
+  double broad_phase_ms = 0.0;     // collision: BVH refit/rebuild, pair queries, candidates
+  double narrow_phase_ms = 0.0;    // collision: proximity and continuous tests
+  double response_ms = 0.0;        // collision: impulses, friction, impact zones
   double rest_update_ms = 0.0;
   double total_ms = 0.0;
-  int contacts = 0;
+  int contacts = 0;                // contacts acted on (proximity + CCD impulses), summed over sub-steps
+  int vertex_face_candidates = 0;  // primitive pairs from the broad phase
+  int edge_edge_candidates = 0;
+  int proximity_contacts = 0;      // pairs repelled within the thickness
+  int ccd_impulses = 0;            // continuous collisions acted on
+  int impact_zone_vertices = 0;    // vertices moved rigidly by impact zones
+  bool collisions_clean = true;    // every sub-step ended without a detected collision
   int newton_iterations = 0;       // implicit Euler, summed over cloths and sub-steps
   int linear_iterations = 0;       // conjugate-gradient iterations, summed likewise
   int accepted_steps = 0;          // adaptive stepping: steps taken
   int rejected_steps = 0;          // adaptive stepping: steps retried smaller
   double residual = 0.0;
-  int yielded_triangles = 0;       // plasticity: triangles whose rest shape flowed           // implicit Euler: largest final gradient norm over cloths
+  int yielded_triangles = 0;       // plasticity: triangles whose rest shape flowed
 
   // Sums the counts and times of `step` into this (the residual keeps the largest).
   StepStats& operator+=(const StepStats& step);
@@ -54,7 +66,8 @@ class World {
  public:
   SolverSettings settings;
 
-  void add_cloth(Cloth cloth);
+  void add_cloth(Cloth cloth, ContactMaterial material = {});
+  // Throws std::invalid_argument for a mesh collider without triangles.
   void add_collider(Collider collider);
 
   // Advances every cloth by settings.time_step.
@@ -65,6 +78,11 @@ class World {
   const std::vector<Cloth>& cloths() const { return cloths_; }
   const std::vector<Collider>& colliders() const { return colliders_; }
   const StepStats& last_step_stats() const { return stats_; }
+  // Contacts the collision response acted on in the last step (every sub-step).
+  const std::vector<ContactRecord>& contacts() const { return collisions_.records(); }
+  // The triangle mesh standing for collider k in the collision pipeline, posed at time().
+  const TriangleMesh& collider_surface(int collider) const { return collider_surfaces_[collider]; }
+  Positions collider_positions(int collider) const;
   Energies energies() const;
 
  private:
@@ -78,13 +96,17 @@ class World {
 
   void move_colliders(double h);
   void integrate(double h, StepStats& stats);
-  int resolve_collisions(double h);
+  void resolve_collisions(double h, StepStats& stats);
   int update_rest_state();
   void integrate_cloth(Cloth& cloth, ClothSolvers& solvers, double h, StepStats& stats);
 
   std::vector<Cloth> cloths_;
   std::vector<std::unique_ptr<ClothSolvers>> solvers_;  // Eigen solvers do not move: held by pointer
   std::vector<Collider> colliders_;
+  std::vector<TriangleMesh> collider_surfaces_;  // at time 0
+  std::vector<ContactMaterial> materials_;       // per cloth
+  CollisionPhase collisions_;
+  bool collision_meshes_stale_ = true;           // cloths or colliders added since the last step
   double time_ = 0.0;
   StepStats stats_;
 };

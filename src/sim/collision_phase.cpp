@@ -1,0 +1,402 @@
+#include "sim/collision_phase.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "collision/edge_edge.hpp"
+#include "collision/point_triangle.hpp"
+#include "collision/proximity_response.hpp"
+
+namespace weft {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double milliseconds_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Collider vertices at time t: rest positions carried by the collider's motion.
+void pose_vertices(const ColliderSurface& collider, double t, Eigen::Ref<Positions> out) {
+  const Mat3 rotation = collider.motion.rotation(t);
+  const Vec3 translation = collider.motion.translation(t);
+  out = (rotation * collider.rest_positions).colwise() + translation;
+}
+
+}  // namespace
+
+void CollisionPhase::set_meshes(const std::vector<Cloth>& cloths, const std::vector<ContactMaterial>& materials,
+                                const std::vector<ColliderSurface>& colliders) {
+  num_cloths_ = static_cast<int>(cloths.size());
+  materials_ = materials;
+  colliders_ = colliders;
+  meshes_.clear();
+  meshes_.resize(cloths.size() + colliders.size());
+  max_thickness_ = 0.0;
+
+  // Layout: each mesh's offsets are the running totals of the meshes before it.
+  MeshIndexOffsets offsets;
+  for (size_t m = 0; m < meshes_.size(); ++m) {
+    MeshSlot& slot = meshes_[m];
+    const bool is_cloth = m < cloths.size();
+    if (is_cloth) {
+      const ClothModel& model = cloths[m].model;
+      slot.local_triangles = model.triangles;
+      slot.num_vertices = static_cast<int>(model.rest_positions.cols());
+      slot.thickness = model.thickness;
+      slot.soft_body = model.pressure.enabled;
+      max_thickness_ = std::max(max_thickness_, model.thickness);
+    } else {
+      const ColliderSurface& collider = colliders[m - cloths.size()];
+      slot.local_triangles = collider.triangles;
+      slot.num_vertices = static_cast<int>(collider.rest_positions.cols());
+      slot.moves = !collider.motion.is_static();
+    }
+    slot.topology = build_topology(slot.local_triangles, slot.num_vertices);
+    slot.offsets = offsets;
+    slot.global_triangles = slot.local_triangles.array() + offsets.vertex;
+    offsets = next_offsets(offsets, slot.num_vertices, static_cast<int>(slot.local_triangles.cols()),
+                           slot.topology.num_edges());
+  }
+
+  // Combined arrays.
+  x_start_.resize(3, offsets.vertex);
+  x_end_.resize(3, offsets.vertex);
+  velocity_.resize(3, offsets.vertex);
+  inverse_mass_.setZero(offsets.vertex);
+  triangles_.resize(3, offsets.triangle);
+  edges_.resize(2, offsets.edge);
+  vertex_mesh_.assign(offsets.vertex, 0);
+  for (size_t m = 0; m < meshes_.size(); ++m) {
+    const MeshSlot& slot = meshes_[m];
+    triangles_.middleCols(slot.offsets.triangle, slot.global_triangles.cols()) = slot.global_triangles;
+    edges_.middleCols(slot.offsets.edge, slot.topology.num_edges()) =
+        slot.topology.edges.array() + slot.offsets.vertex;
+    std::fill_n(vertex_mesh_.begin() + slot.offsets.vertex, slot.num_vertices, static_cast<int>(m));
+    if (m < cloths.size()) {
+      inverse_mass_.segment(slot.offsets.vertex, slot.num_vertices) = cloths[m].model.inverse_mass;
+    } else {
+      // Static colliders sit still for good; kinematic ones are posed every step.
+      const ColliderSurface& collider = colliders[m - cloths.size()];
+      pose_vertices(collider, 0.0, x_start_.middleCols(slot.offsets.vertex, slot.num_vertices));
+      x_end_.middleCols(slot.offsets.vertex, slot.num_vertices) =
+          x_start_.middleCols(slot.offsets.vertex, slot.num_vertices);
+      velocity_.middleCols(slot.offsets.vertex, slot.num_vertices).setZero();
+    }
+  }
+  const int num_groups = num_cloths_ * static_cast<int>(meshes_.size());
+  group_vertex_faces_.assign(num_groups, {});
+  group_edge_edges_.assign(num_groups, {});
+}
+
+void CollisionPhase::begin_step(const std::vector<Cloth>& cloths, double t) {
+  for (int c = 0; c < num_cloths_; ++c) {
+    x_start_.middleCols(meshes_[c].offsets.vertex, meshes_[c].num_vertices) = cloths[c].state.x;
+  }
+  for (size_t k = 0; k < colliders_.size(); ++k) {
+    const MeshSlot& slot = meshes_[num_cloths_ + k];
+    if (slot.moves) pose_vertices(colliders_[k], t, x_start_.middleCols(slot.offsets.vertex, slot.num_vertices));
+  }
+}
+
+// Phase: the integrator's candidate motion and the colliders' scripted one, in combined arrays.
+void CollisionPhase::gather_motion(const std::vector<Cloth>& cloths, double t, double h) {
+  time_step_ = h;
+  for (int c = 0; c < num_cloths_; ++c) {
+    const MeshSlot& slot = meshes_[c];
+    x_end_.middleCols(slot.offsets.vertex, slot.num_vertices) = cloths[c].state.x;
+    velocity_.middleCols(slot.offsets.vertex, slot.num_vertices) = cloths[c].state.v;
+  }
+  for (size_t k = 0; k < colliders_.size(); ++k) {
+    const MeshSlot& slot = meshes_[num_cloths_ + k];
+    if (!slot.moves) continue;
+    auto end = x_end_.middleCols(slot.offsets.vertex, slot.num_vertices);
+    pose_vertices(colliders_[k], t + h, end);
+    velocity_.middleCols(slot.offsets.vertex, slot.num_vertices) =
+        (end - x_start_.middleCols(slot.offsets.vertex, slot.num_vertices)) / h;
+  }
+}
+
+CollisionStep CollisionPhase::make_step() {
+  return CollisionStep{x_start_, x_end_, velocity_, inverse_mass_, triangles_, edges_, time_step_};
+}
+
+// Swept boxes over the current motion, inflated by the thickness; a hierarchy that refitting
+// has made too loose is built again.
+void CollisionPhase::refit_bounding_volumes() {
+  for (MeshSlot& slot : meshes_) {
+    if (slot.built && !slot.moves) continue;
+    if (!slot.built || slot.bvh.needs_rebuild()) {
+      slot.bvh.build(x_start_, x_end_, slot.global_triangles, max_thickness_, settings.bvh);
+      slot.built = true;
+      ++stats_.bvh_rebuilds;
+    } else {
+      slot.bvh.refit(x_start_, x_end_, max_thickness_);
+    }
+  }
+}
+
+// Triangle pairs whose swept boxes overlap (self, cloth-cloth, cloth-collider; colliders never
+// meet each other), turned into primitive pairs; pairs of infinite-mass vertices only are dropped.
+void CollisionPhase::query_candidates(CollisionCandidates& candidates) {
+  candidates.clear();
+  const auto candidate_mesh = [](const MeshSlot& slot) {
+    return CandidateMesh{slot.local_triangles, slot.topology, slot.offsets};
+  };
+  for (int c = 0; c < num_cloths_; ++c) {
+    const MeshSlot& cloth = meshes_[c];
+    if (materials_[c].self_collision) {
+      find_self_pairs(cloth.bvh, buffers_, pairs_, SharedVertexPairs::keep);
+      add_self_candidates(pairs_, candidate_mesh(cloth), candidates);
+    }
+    for (size_t other = c + 1; other < meshes_.size(); ++other) {
+      find_pairs_between(cloth.bvh, meshes_[other].bvh, buffers_, pairs_);
+      add_candidates_between(pairs_, candidate_mesh(cloth), candidate_mesh(meshes_[other]), candidates);
+    }
+  }
+  const auto immovable = [&](int v) { return inverse_mass_[v] == 0.0; };
+  auto& vertex_faces = candidates.vertex_face;
+  vertex_faces.erase(std::remove_if(vertex_faces.begin(), vertex_faces.end(),
+                                    [&](const VertexFacePair& pair) {
+                                      const auto corners = triangles_.col(pair.triangle);
+                                      return immovable(pair.vertex) && immovable(corners[0]) &&
+                                             immovable(corners[1]) && immovable(corners[2]);
+                                    }),
+                     vertex_faces.end());
+  auto& edge_edges = candidates.edge_edge;
+  edge_edges.erase(std::remove_if(edge_edges.begin(), edge_edges.end(),
+                                  [&](const EdgeEdgePair& pair) {
+                                    return immovable(edges_(0, pair.edge_a)) && immovable(edges_(1, pair.edge_a)) &&
+                                           immovable(edges_(0, pair.edge_b)) && immovable(edges_(1, pair.edge_b));
+                                  }),
+                   edge_edges.end());
+}
+
+// Phase: broad phase.
+void CollisionPhase::find_candidates() {
+  const auto start = Clock::now();
+  refit_bounding_volumes();
+  query_candidates(candidates_);
+  stats_.vertex_face_candidates += static_cast<int>(candidates_.vertex_face.size());
+  stats_.edge_edge_candidates += static_cast<int>(candidates_.edge_edge.size());
+  stats_.broad_ms += milliseconds_since(start);
+}
+
+// Material pairs: group a * n_meshes + b for the cloth a and the mesh b >= a it meets.
+int CollisionPhase::material_group(int mesh_a, int mesh_b) const {
+  if (mesh_a > mesh_b) std::swap(mesh_a, mesh_b);
+  return mesh_a * static_cast<int>(meshes_.size()) + mesh_b;
+}
+
+ResponseSettings CollisionPhase::response_settings(int group) const {
+  const int a = group / static_cast<int>(meshes_.size());
+  const int b = group % static_cast<int>(meshes_.size());
+  ResponseSettings response = ccd_settings();
+  response.thickness = std::max(meshes_[a].thickness, meshes_[b].thickness);
+  if (b >= num_cloths_) {
+    const ColliderSurface& collider = colliders_[b - num_cloths_];
+    response.static_friction = collider.static_friction;
+    response.kinetic_friction = collider.kinetic_friction;
+  } else {
+    response.static_friction = 0.5 * (materials_[a].static_friction + materials_[b].static_friction);
+    response.kinetic_friction = 0.5 * (materials_[a].kinetic_friction + materials_[b].kinetic_friction);
+  }
+  return response;
+}
+
+ResponseSettings CollisionPhase::ccd_settings() const {
+  ResponseSettings response;
+  response.thickness = max_thickness_;
+  response.repulsion_stiffness = settings.repulsion_stiffness;
+  response.ccd_tolerance = settings.ccd_tolerance;
+  response.ccd_separation = settings.ccd_separation;
+  response.max_ccd_passes = settings.max_ccd_passes;
+  response.max_impact_zone_passes = settings.max_impact_zone_passes;
+  return response;
+}
+
+// Phase: pairs closer than their thickness at the start of the step (tested in parallel), then
+// repulsion and friction impulses group by group of material pairs.
+void CollisionPhase::apply_proximity() {
+  auto start = Clock::now();
+  const auto& vertex_faces = candidates_.vertex_face;
+  const auto& edge_edges = candidates_.edge_edge;
+  near_vertex_face_.assign(vertex_faces.size(), 0);
+  near_edge_edge_.assign(edge_edges.size(), 0);
+  const Positions& x = x_start_;
+  const auto thickness_of = [&](int vertex_a, int vertex_b) {
+    return std::max(meshes_[vertex_mesh_[vertex_a]].thickness, meshes_[vertex_mesh_[vertex_b]].thickness);
+  };
+  const int num_vertex_faces = static_cast<int>(vertex_faces.size());
+  const int num_edge_edges = static_cast<int>(edge_edges.size());
+#pragma omp parallel for schedule(static) if (num_vertex_faces > 1024)
+  for (int k = 0; k < num_vertex_faces; ++k) {
+    const VertexFacePair& pair = vertex_faces[k];
+    const auto corners = triangles_.col(pair.triangle);
+    const double distance =
+        point_triangle_closest(x.col(pair.vertex), x.col(corners[0]), x.col(corners[1]), x.col(corners[2])).distance;
+    near_vertex_face_[k] = distance < thickness_of(pair.vertex, corners[0]);
+  }
+#pragma omp parallel for schedule(static) if (num_edge_edges > 1024)
+  for (int k = 0; k < num_edge_edges; ++k) {
+    const EdgeEdgePair& pair = edge_edges[k];
+    const auto a = edges_.col(pair.edge_a);
+    const auto b = edges_.col(pair.edge_b);
+    const double distance = edge_edge_closest(x.col(a[0]), x.col(a[1]), x.col(b[0]), x.col(b[1])).distance;
+    near_edge_edge_[k] = distance < thickness_of(a[0], b[0]);
+  }
+  for (auto& group : group_vertex_faces_) group.clear();
+  for (auto& group : group_edge_edges_) group.clear();
+  for (int k = 0; k < num_vertex_faces; ++k) {
+    if (!near_vertex_face_[k]) continue;
+    const VertexFacePair& pair = vertex_faces[k];
+    const int group = material_group(vertex_mesh_[pair.vertex], vertex_mesh_[triangles_(0, pair.triangle)]);
+    group_vertex_faces_[group].push_back(pair);
+  }
+  for (int k = 0; k < num_edge_edges; ++k) {
+    if (!near_edge_edge_[k]) continue;
+    const EdgeEdgePair& pair = edge_edges[k];
+    const int group = material_group(vertex_mesh_[edges_(0, pair.edge_a)], vertex_mesh_[edges_(0, pair.edge_b)]);
+    group_edge_edges_[group].push_back(pair);
+  }
+  stats_.narrow_ms += milliseconds_since(start);
+
+  start = Clock::now();
+  CollisionStep step = make_step();
+  const size_t first_record = records_.size();
+  for (size_t group = 0; group < group_vertex_faces_.size(); ++group) {
+    if (group_vertex_faces_[group].empty() && group_edge_edges_[group].empty()) continue;
+    stats_.proximity_contacts +=
+        apply_proximity_response(step, group_vertex_faces_[group], group_edge_edges_[group],
+                                 response_settings(static_cast<int>(group)), &records_);
+  }
+  label_records(first_record);
+  stats_.response_ms += milliseconds_since(start);
+}
+
+// Phase: continuous detection of every candidate over the corrected motion (in parallel), then
+// an inelastic impulse on each collision found, pass after pass until one finds none.
+void CollisionPhase::apply_ccd_impulses() {
+  CollisionStep step = make_step();
+  const ResponseSettings response = ccd_settings();
+  const size_t first_record = records_.size();
+  ++stats_.rounds;
+  stats_.clean = false;
+  for (int pass = 0; pass < settings.max_ccd_passes; ++pass) {
+    auto start = Clock::now();
+    detect_collisions(step, candidates_.vertex_face, candidates_.edge_edge, response, collisions_);
+    stats_.narrow_ms += milliseconds_since(start);
+    if (collisions_.empty()) {
+      stats_.clean = true;
+      break;
+    }
+    start = Clock::now();
+    for (const CcdCollision& collision : collisions_) {
+      // The contact point: the stencil's positive side at the time of contact.
+      Vec3 position = Vec3::Zero();
+      for (int k = 0; k < 4; ++k) {
+        const double weight = collision.stencil.weights[k];
+        if (weight <= 0.0) continue;
+        const int v = collision.stencil.vertices[k];
+        position += weight * ((1.0 - collision.time) * x_start_.col(v) + collision.time * x_end_.col(v));
+      }
+      const double impulse = apply_ccd_impulse(step, collision, response);
+      if (impulse > 0.0) {
+        ++stats_.ccd_impulses;
+        records_.push_back({position, collision.kind, response.thickness - collision.distance, impulse,
+                            collision.primitive_a, collision.primitive_b});
+      }
+    }
+    stats_.response_ms += milliseconds_since(start);
+  }
+  label_records(first_record);
+}
+
+// Phase: what the impulses left colliding moves as rigid zones.
+void CollisionPhase::apply_impact_zones() {
+  if (stats_.clean) return;
+  const auto start = Clock::now();
+  CollisionStep step = make_step();
+  const ImpactZoneResult zones =
+      resolve_impact_zones(step, candidates_.vertex_face, candidates_.edge_edge, ccd_settings(), zone_workspace_);
+  stats_.impact_zone_vertices += zones.zone_vertices;
+  stats_.clean = zones.clean;
+  stats_.response_ms += milliseconds_since(start);
+}
+
+// Phase: the corrected motion may have left the swept boxes the candidates came from; if so,
+// query again and test the new candidates. Returns true when they collide.
+bool CollisionPhase::verify_motion() {
+  auto start = Clock::now();
+  // A triangle whose corrected end positions stay inside its swept box (which holds its start
+  // positions) still sweeps only through that box, so no pair was missed.
+  bool inside = true;
+  for (int c = 0; c < num_cloths_ && inside; ++c) {
+    const MeshSlot& slot = meshes_[c];
+    for (int t = 0; t < slot.global_triangles.cols() && inside; ++t) {
+      const Aabb& box = slot.bvh.triangle_boxes()[t];
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 p = x_end_.col(slot.global_triangles(k, t));
+        if ((p.array() < box.lower.array()).any() || (p.array() > box.upper.array()).any()) {
+          inside = false;
+          break;
+        }
+      }
+    }
+  }
+  if (inside) {
+    stats_.broad_ms += milliseconds_since(start);
+    return false;
+  }
+  refit_bounding_volumes();
+  query_candidates(verify_candidates_);
+  stats_.broad_ms += milliseconds_since(start);
+
+  start = Clock::now();
+  CollisionStep step = make_step();
+  detect_collisions(step, verify_candidates_.vertex_face, verify_candidates_.edge_edge, ccd_settings(),
+                    collisions_);
+  stats_.narrow_ms += milliseconds_since(start);
+  std::swap(candidates_, verify_candidates_);
+  return !collisions_.empty();
+}
+
+void CollisionPhase::scatter_motion(std::vector<Cloth>& cloths) const {
+  for (int c = 0; c < num_cloths_; ++c) {
+    const MeshSlot& slot = meshes_[c];
+    cloths[c].state.x = x_end_.middleCols(slot.offsets.vertex, slot.num_vertices);
+    cloths[c].state.v = velocity_.middleCols(slot.offsets.vertex, slot.num_vertices);
+  }
+}
+
+Positions CollisionPhase::collider_positions(int collider, double t) const {
+  Positions positions(3, colliders_[collider].rest_positions.cols());
+  pose_vertices(colliders_[collider], t, positions);
+  return positions;
+}
+
+void CollisionPhase::label_records(size_t first) {
+  for (size_t r = first; r < records_.size(); ++r) {
+    ContactRecord& record = records_[r];
+    int mesh_a, mesh_b;
+    if (record.kind == ContactKind::vertex_face) {
+      mesh_a = vertex_mesh_[record.primitive_a];
+      mesh_b = vertex_mesh_[triangles_(0, record.primitive_b)];
+    } else {
+      mesh_a = vertex_mesh_[edges_(0, record.primitive_a)];
+      mesh_b = vertex_mesh_[edges_(0, record.primitive_b)];
+    }
+    if (meshes_[mesh_a].soft_body || meshes_[mesh_b].soft_body) {
+      record.partners = ContactPartners::soft_body;
+    } else if (mesh_a >= num_cloths_ || mesh_b >= num_cloths_) {
+      record.partners = ContactPartners::cloth_solid;
+    } else {
+      record.partners = ContactPartners::cloth_cloth;
+    }
+  }
+}
+
+}  // namespace weft

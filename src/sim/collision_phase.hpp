@@ -1,0 +1,160 @@
+#pragma once
+// The collision phase of a World step (DESIGN.md step 3, after Bridson, Fedkiw & Anderson 2002):
+// every cloth, soft body and collider surface is laid out in one combined vertex, triangle and
+// edge index space, and the integrator's candidate motion x_start -> x_end is corrected in place
+// by these phases, each a member function the World calls in order:
+//   gather_motion           combined x_start, x_end, velocity and inverse mass
+//   find_candidates         broad phase: BVHs refitted with swept boxes (rebuilt when loose),
+//                           self, cloth-cloth and cloth-collider triangle pairs, then their
+//                           vertex-face and edge-edge primitive pairs
+//   apply_proximity         narrow phase (pairs closer than the thickness at the start) and the
+//                           repulsion + Coulomb friction impulses, per material pair
+//   apply_ccd_impulses      continuous detection over the step and inelastic impulses, iterated
+//   apply_impact_zones      rigid impact zones, the fail-safe
+//   verify_motion           the broad phase again on the corrected motion; collisions it finds
+//                           (pairs that left their swept boxes) go round again
+//   scatter_motion          the corrected positions and velocities back into the cloths
+// Colliders are triangle meshes of infinite mass; kinematic ones move from their pose at t to
+// their pose at t + h over the step.
+#include <vector>
+
+#include "collision/bvh.hpp"
+#include "collision/candidates.hpp"
+#include "collision/ccd_response.hpp"
+#include "collision/collider.hpp"
+#include "collision/collision_step.hpp"
+#include "collision/contact_record.hpp"
+#include "collision/impact_zones.hpp"
+#include "core/topology.hpp"
+#include "physics/cloth.hpp"
+
+namespace weft {
+
+// How a cloth meets others: Coulomb coefficients (a cloth-cloth pair uses the mean of the two
+// cloths') and whether it is tested against itself.
+struct ContactMaterial {
+  double static_friction = 0.4;
+  double kinetic_friction = 0.3;
+  bool self_collision = true;
+};
+
+struct CollisionSettings {
+  bool enabled = true;
+  double repulsion_stiffness = 1000.0;  // N/m, spring of the proximity repulsion
+  double ccd_tolerance = 1e-6;          // m, eta of the continuous tests
+  double ccd_separation = 0.1;          // fraction of the thickness a CCD impulse restores
+  int max_ccd_passes = 8;               // CCD impulse passes before impact zones
+  int max_impact_zone_passes = 64;      // zone passes before the involved vertices stop
+  int max_rounds = 3;                   // CCD + zones rounds while verify_motion finds collisions
+  BvhSettings bvh;
+};
+
+// What the phase did in the last step, summed over sub-steps by the World.
+struct CollisionPhaseStats {
+  double broad_ms = 0.0;     // BVH refit/rebuild, pair queries, primitive candidates
+  double narrow_ms = 0.0;    // proximity and continuous tests
+  double response_ms = 0.0;  // impulses, friction, impact zones
+  int vertex_face_candidates = 0;
+  int edge_edge_candidates = 0;
+  int proximity_contacts = 0;
+  int ccd_impulses = 0;
+  int impact_zone_vertices = 0;
+  int bvh_rebuilds = 0;
+  int rounds = 0;            // CCD + zone rounds run
+  bool clean = true;         // the final motion had no collision among the last candidates
+};
+
+// One collider as the phase sees it: its surface at time 0 and its motion.
+struct ColliderSurface {
+  Positions rest_positions;  // (3 x n_vertices), scene coordinates at time 0
+  Triangles triangles;       // (3 x n_triangles)
+  ColliderMotion motion;
+  double static_friction = 0.3;
+  double kinetic_friction = 0.3;
+};
+
+class CollisionPhase {
+ public:
+  CollisionSettings settings;
+
+  // Registers the meshes; call again whenever cloths or colliders are added. Allocates.
+  void set_meshes(const std::vector<Cloth>& cloths, const std::vector<ContactMaterial>& materials,
+                  const std::vector<ColliderSurface>& colliders);
+
+  // Before the integrator moves anything: the step starts at the cloths' current positions and
+  // the colliders' poses at time t.
+  void begin_step(const std::vector<Cloth>& cloths, double t);
+
+  void gather_motion(const std::vector<Cloth>& cloths, double t, double h);
+  void find_candidates();
+  void apply_proximity();
+  void apply_ccd_impulses();
+  void apply_impact_zones();
+  // Returns true when the corrected motion still collides (another round is due).
+  bool verify_motion();
+  void scatter_motion(std::vector<Cloth>& cloths) const;
+
+  const CollisionPhaseStats& stats() const { return stats_; }
+  void reset_stats() { stats_ = {}; records_.clear(); }
+  // Contacts acted on in the current step (positions at the start of the step).
+  const std::vector<ContactRecord>& records() const { return records_; }
+  // Collider vertices at time t (3 x n_vertices of collider k).
+  Positions collider_positions(int collider, double t) const;
+
+  int num_cloths() const { return num_cloths_; }
+
+ private:
+  struct MeshSlot {
+    MeshIndexOffsets offsets;
+    int num_vertices = 0;
+    Triangles local_triangles;   // (3 x n_triangles), vertex indices within the mesh
+    Triangles global_triangles;  // the same in combined vertex indices (what the BVH reads)
+    MeshTopology topology;
+    Bvh bvh;
+    bool built = false;
+    bool moves = true;           // cloths, kinematic colliders
+    double thickness = 0.0;      // cloths; 0 for colliders
+    bool soft_body = false;
+  };
+
+  CollisionStep make_step();
+  void refit_bounding_volumes();
+  void query_candidates(CollisionCandidates& candidates);
+  int material_group(int mesh_a, int mesh_b) const;
+  ResponseSettings response_settings(int group) const;
+  ResponseSettings ccd_settings() const;
+  int mesh_of_vertex(int vertex) const { return vertex_mesh_[vertex]; }
+  void label_records(size_t first);
+
+  std::vector<MeshSlot> meshes_;            // cloths first, then colliders
+  std::vector<ContactMaterial> materials_;  // per cloth
+  std::vector<ColliderSurface> colliders_;
+  int num_cloths_ = 0;
+  double max_thickness_ = 0.0;
+  double time_step_ = 0.0;
+
+  // Combined state of the step.
+  Positions x_start_;               // (3 x n_vertices)
+  Positions x_end_;                 // (3 x n_vertices)
+  Positions velocity_;              // (3 x n_vertices)
+  Eigen::VectorXd inverse_mass_;    // (n_vertices)
+  Triangles triangles_;             // (3 x n_triangles)
+  Eigen::Matrix2Xi edges_;          // (2 x n_edges)
+  std::vector<int> vertex_mesh_;    // mesh of each combined vertex (n_vertices)
+
+  // Scratch kept between steps.
+  BvhQueryBuffers buffers_;
+  std::vector<TrianglePair> pairs_;
+  CollisionCandidates candidates_;
+  CollisionCandidates verify_candidates_;
+  std::vector<std::vector<VertexFacePair>> group_vertex_faces_;
+  std::vector<std::vector<EdgeEdgePair>> group_edge_edges_;
+  std::vector<char> near_vertex_face_;
+  std::vector<char> near_edge_edge_;
+  std::vector<CcdCollision> collisions_;
+  ImpactZoneWorkspace zone_workspace_;
+  std::vector<ContactRecord> records_;
+  CollisionPhaseStats stats_;
+};
+
+}  // namespace weft
