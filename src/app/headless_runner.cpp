@@ -76,7 +76,9 @@ void write_stats(const std::filesystem::path& path, const std::vector<FrameStats
   write_file_atomically(path.string(), [&](std::ostream& out) {
     out << "frame,time,kinetic_energy,potential_energy,gravitational_energy,elastic_energy,spring_energy,"
            "energy_dissipated,contacts,newton_iterations,linear_iterations,accepted_steps,rejected_steps,"
-           "integrate_ms,collisions_ms,wall_ms\n";
+           "integrate_ms,collisions_ms,wall_ms,steps,broad_phase_ms,narrow_phase_ms,response_ms,step_ms,"
+           "vertex_face_candidates,edge_edge_candidates,proximity_contacts,ccd_impulses,impact_zone_vertices,"
+           "collisions_clean\n";
     out << std::setprecision(10);
     for (const FrameStats& row : rows) {
       const Energies& e = row.energies;
@@ -85,7 +87,10 @@ void write_stats(const std::filesystem::path& path, const std::vector<FrameStats
           << e.gravitational << ',' << e.elastic << ',' << e.terms.springs << ',' << row.dissipated << ','
           << s.contacts << ',' << s.newton_iterations << ',' << s.linear_iterations << ',' << s.accepted_steps
           << ',' << s.rejected_steps << ',' << s.integrate_ms << ',' << s.collisions_ms << ',' << row.wall_ms
-          << '\n';
+          << ',' << s.steps << ',' << s.broad_phase_ms << ',' << s.narrow_phase_ms << ',' << s.response_ms << ','
+          << s.total_ms << ',' << s.vertex_face_candidates << ',' << s.edge_edge_candidates << ','
+          << s.proximity_contacts << ',' << s.ccd_impulses << ',' << s.impact_zone_vertices << ','
+          << (s.collisions_clean ? 1 : 0) << '\n';
     }
   });
 }

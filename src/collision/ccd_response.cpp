@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <initializer_list>
 
 #include "collision/edge_edge_ccd.hpp"
 #include "collision/vertex_face_ccd.hpp"
@@ -26,6 +27,23 @@ ContactRecord record_of(const CollisionStep& step, const CcdCollision& collision
           impulse,  collision.primitive_a, collision.primitive_b};
 }
 
+// Whether the boxes swept by two sets of vertices over the step come within `gap` of each other:
+// primitives whose swept boxes stay apart cannot meet, and most candidates end here.
+bool swept_boxes_overlap(const Positions& x0, const Positions& x1, std::initializer_list<int> first,
+                         std::initializer_list<int> second, double gap) {
+  const auto box_of = [&](std::initializer_list<int> vertices, Vec3& lower, Vec3& upper) {
+    lower = upper = x0.col(*vertices.begin());
+    for (int v : vertices) {
+      lower = lower.cwiseMin(x0.col(v)).cwiseMin(x1.col(v));
+      upper = upper.cwiseMax(x0.col(v)).cwiseMax(x1.col(v));
+    }
+  };
+  Vec3 lower_a, upper_a, lower_b, upper_b;
+  box_of(first, lower_a, upper_a);
+  box_of(second, lower_b, upper_b);
+  return (lower_a.array() <= upper_b.array() + gap).all() && (lower_b.array() <= upper_a.array() + gap).all();
+}
+
 }  // namespace
 
 std::optional<CcdCollision> detect_collision(const CollisionStep& step, const VertexFacePair& pair,
@@ -34,6 +52,10 @@ std::optional<CcdCollision> detect_collision(const CollisionStep& step, const Ve
   const auto corners = step.triangles.col(pair.triangle);
   const Positions& x0 = step.x_start;
   const Positions& x1 = step.x_end;
+  if (!swept_boxes_overlap(x0, x1, {pair.vertex}, {corners[0], corners[1], corners[2]},
+                           settings.ccd_tolerance)) {
+    return std::nullopt;
+  }
   const std::optional<VertexFaceImpact> impact = vertex_face_ccd(
       x0.col(pair.vertex), x0.col(corners[0]), x0.col(corners[1]), x0.col(corners[2]), x1.col(pair.vertex),
       x1.col(corners[0]), x1.col(corners[1]), x1.col(corners[2]), settings.ccd_tolerance);
@@ -54,6 +76,7 @@ std::optional<CcdCollision> detect_collision(const CollisionStep& step, const Ed
   const auto b = step.edges.col(pair.edge_b);
   const Positions& x0 = step.x_start;
   const Positions& x1 = step.x_end;
+  if (!swept_boxes_overlap(x0, x1, {a[0], a[1]}, {b[0], b[1]}, settings.ccd_tolerance)) return std::nullopt;
   const std::optional<EdgeEdgeImpact> impact =
       edge_edge_ccd(x0.col(a[0]), x0.col(a[1]), x0.col(b[0]), x0.col(b[1]), x1.col(a[0]), x1.col(a[1]),
                     x1.col(b[0]), x1.col(b[1]), settings.ccd_tolerance);

@@ -141,6 +141,8 @@ void CollisionPhase::refit_bounding_volumes() {
 
 // Triangle pairs whose swept boxes overlap (self, cloth-cloth, cloth-collider; colliders never
 // meet each other), turned into primitive pairs; pairs of infinite-mass vertices only are dropped.
+// Self pairs of triangles that share a vertex are skipped: a fold between neighbours that goes
+// through the cloth also brings non-adjacent triangles together, and those pairs are tested.
 void CollisionPhase::query_candidates(CollisionCandidates& candidates) {
   candidates.clear();
   const auto candidate_mesh = [](const MeshSlot& slot) {
@@ -149,7 +151,7 @@ void CollisionPhase::query_candidates(CollisionCandidates& candidates) {
   for (int c = 0; c < num_cloths_; ++c) {
     const MeshSlot& cloth = meshes_[c];
     if (materials_[c].self_collision) {
-      find_self_pairs(cloth.bvh, buffers_, pairs_, SharedVertexPairs::keep);
+      find_self_pairs(cloth.bvh, buffers_, pairs_, SharedVertexPairs::skip);
       add_self_candidates(pairs_, candidate_mesh(cloth), candidates);
     }
     for (size_t other = c + 1; other < meshes_.size(); ++other) {

@@ -70,6 +70,7 @@ void World::step() {
     stats.rest_update_ms += milliseconds_since(phase_start);
   }
   stats.total_ms = milliseconds_since(step_start);
+  stats.steps = 1;
   stats_ = stats;
 }
 
@@ -190,12 +191,13 @@ StepStats& StepStats::operator+=(const StepStats& step) {
   broad_phase_ms += step.broad_phase_ms;
   narrow_phase_ms += step.narrow_phase_ms;
   response_ms += step.response_ms;
-  contacts = step.contacts;
-  vertex_face_candidates = step.vertex_face_candidates;
-  edge_edge_candidates = step.edge_edge_candidates;
-  proximity_contacts = step.proximity_contacts;
-  ccd_impulses = step.ccd_impulses;
-  impact_zone_vertices = step.impact_zone_vertices;
+  steps += step.steps;
+  contacts += step.contacts;
+  vertex_face_candidates += step.vertex_face_candidates;
+  edge_edge_candidates += step.edge_edge_candidates;
+  proximity_contacts += step.proximity_contacts;
+  ccd_impulses += step.ccd_impulses;
+  impact_zone_vertices += step.impact_zone_vertices;
   collisions_clean = collisions_clean && step.collisions_clean;
   yielded_triangles += step.yielded_triangles;
   newton_iterations += step.newton_iterations;

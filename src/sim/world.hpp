@@ -44,6 +44,7 @@ struct StepStats {
   double response_ms = 0.0;        // collision: impulses, friction, impact zones
   double rest_update_ms = 0.0;
   double total_ms = 0.0;
+  int steps = 0;                   // World::step() calls summed here (1 for one step)
   int contacts = 0;                // contacts acted on (proximity + CCD impulses), summed over sub-steps
   int vertex_face_candidates = 0;  // primitive pairs from the broad phase
   int edge_edge_candidates = 0;

@@ -1,0 +1,183 @@
+// Collision invariants over every frame of the shipped collision scenes, shortened (coarser grids,
+// fewer frames): no two non-adjacent triangles intersect and no cloth vertex crosses into a
+// collider, judged by core/intersection_check and analytic shapes (tests/support/
+// scene_invariants.hpp), never by the collision code. bench/collision_scenes.sh runs the full
+// scenes with the same check. Plus what each scene is for: the cloth reaches the obstacle, the
+// slope holds or lets go by the friction law.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "io/scene_builder.hpp"
+#include "io/scene_file.hpp"
+#include "support/scene_invariants.hpp"
+
+namespace weft {
+namespace {
+
+const std::string source_dir = WEFT_SOURCE_DIR;
+
+struct SceneRun {
+  int frames_checked = 0;
+  int steps_with_contacts = 0;
+  testing::InvariantReport first_failure;
+  bool clean = true;
+};
+
+// Runs `frames` frames of the world built from `scene`, checking the invariants after each.
+SceneRun run_checked(World& world, const SceneDesc& scene, int frames) {
+  SceneRun run;
+  const testing::SceneInvariants invariants(world);
+  const testing::InvariantReport start = invariants.check(world);
+  EXPECT_TRUE(start.ok()) << "the scene starts in contact: " << start.first;
+  const FrameSchedule schedule = frame_schedule(scene.fps, scene.time_step);
+  for (int frame = 1; frame <= frames && run.clean; ++frame) {
+    for (int step = 0; step < schedule.steps_per_frame; ++step) {
+      world.step();
+      if (world.last_step_stats().contacts > 0) ++run.steps_with_contacts;
+    }
+    const testing::InvariantReport report = invariants.check(world);
+    if (!report.ok()) {
+      run.clean = false;
+      run.first_failure = report;
+    }
+    ++run.frames_checked;
+  }
+  return run;
+}
+
+// The shipped scene with `overrides`, and a looser Newton tolerance so that the shortened runs
+// stay short (the collision phase does not depend on it).
+SceneDesc load(const std::string& name, std::vector<std::string> overrides) {
+  overrides.push_back("solver.newton.tolerance=1e-3");
+  return load_scene_file(source_dir + "/scenes/" + name + ".json", overrides);
+}
+
+void expect_clean(const SceneRun& run, int frames) {
+  EXPECT_TRUE(run.clean) << run.first_failure.intersecting_pairs << " intersecting pairs, "
+                         << run.first_failure.vertices_crossed << " vertices crossed; first: "
+                         << run.first_failure.first;
+  EXPECT_EQ(run.frames_checked, frames);
+}
+
+double lowest_y(const Cloth& cloth) { return cloth.state.x.row(1).minCoeff(); }
+
+// Height of the lattice vertex nearest the middle of an nx x ny grid cloth.
+double middle_y(const Cloth& cloth, int nx, int ny) { return cloth.state.x(1, (ny / 2) * nx + nx / 2); }
+
+TEST(CollisionScenes, DrapeSphereStaysClean) {
+  // Starting 0.15 m above the sphere instead of 0.5 m: contact from the third frame.
+  const SceneDesc scene =
+      load("drape_sphere", {"cloths.0.grid.resolution=[16,16]", "cloths.0.transform.translation=[0,0.65,0]"});
+  World world = build_world(scene);
+  const SceneRun run = run_checked(world, scene, 12);
+  expect_clean(run, 12);
+  // The cloth came down around the sphere and rests on it: contacts, and nothing fell through.
+  EXPECT_GT(run.steps_with_contacts, 10);
+  EXPECT_LT(lowest_y(world.cloths()[0]), 0.3);
+  EXPECT_GT(middle_y(world.cloths()[0], 16, 16), 0.5) << "the middle of the cloth rests on top of the sphere";
+  EXPECT_LT(middle_y(world.cloths()[0], 16, 16), 0.6);
+}
+
+TEST(CollisionScenes, TwoSheetsStayClean) {
+  const SceneDesc scene = load("two_sheets", {"cloths.0.grid.resolution=[14,14]", "cloths.1.grid.resolution=[12,12]",
+                                             "cloths.1.transform.translation=[0.15,0.95,0.05]"});
+  World world = build_world(scene);
+  const SceneRun run = run_checked(world, scene, 15);
+  expect_clean(run, 15);
+  // The upper sheet lies on the lower one, which lies on the table (top at 0.75).
+  EXPECT_GT(run.steps_with_contacts, 10);
+  EXPECT_GT(middle_y(world.cloths()[1], 12, 12), middle_y(world.cloths()[0], 14, 14));
+  EXPECT_GT(middle_y(world.cloths()[0], 14, 14), 0.75);
+}
+
+TEST(CollisionScenes, TumbleDryerStaysClean) {
+  std::vector<std::string> overrides;
+  for (int k = 0; k < 4; ++k) overrides.push_back("cloths." + std::to_string(k) + ".grid.resolution=[10,10]");
+  const SceneDesc scene = load("tumble_dryer", overrides);
+  World world = build_world(scene);
+  const SceneRun run = run_checked(world, scene, 15);
+  expect_clean(run, 15);
+  EXPECT_GT(run.steps_with_contacts, 10);
+}
+
+TEST(CollisionScenes, TwistStaysClean) {
+  // Two full turns in one second instead of three in four.
+  const SceneDesc scene = load("twist", {"cloths.0.grid.resolution=[16,8]",
+                                         "cloths.0.moving_pins.0.angular_velocity_degrees=720"});
+  World world = build_world(scene);
+  const SceneRun run = run_checked(world, scene, 30);
+  expect_clean(run, 30);
+  EXPECT_GT(run.steps_with_contacts, 10) << "a twisted cloth touches itself";
+}
+
+TEST(CollisionScenes, FastDropStaysClean) {
+  const SceneDesc scene = load("fast_drop", {"cloths.0.grid.resolution=[12,12]"});
+  World world = build_world(scene);
+  const SceneRun run = run_checked(world, scene, 6);
+  expect_clean(run, 6);
+  // At 20 m/s the cloth moves 3.3 cm per step, past the 1 cm box: only CCD stops it. Free, it
+  // would be 2 m lower after 0.1 s.
+  EXPECT_GT(run.steps_with_contacts, 0);
+  EXPECT_GT(middle_y(world.cloths()[0], 12, 12), 0.0) << "the cloth's middle stayed above the box";
+}
+
+TEST(CollisionScenes, SoftBallsStayClean) {
+  std::vector<std::string> overrides = {"cloths.0.grid.resolution=[12,12]"};
+  for (int ball = 1; ball <= 3; ++ball) {
+    overrides.push_back("cloths." + std::to_string(ball) + ".sphere={\"radius\": 0.15, \"slices\": 10, \"stacks\": 6}");
+    overrides.push_back("cloths." + std::to_string(ball) + ".transform.translation=[" +
+                        std::to_string(0.3 * (ball - 2)) + "," + std::to_string(0.5 + 0.2 * ball) + ",0]");
+  }
+  const SceneDesc scene = load("soft_balls", overrides);
+  World world = build_world(scene);
+  const SceneRun run = run_checked(world, scene, 20);
+  expect_clean(run, 20);
+  EXPECT_GT(run.steps_with_contacts, 10);
+  for (int ball = 1; ball <= 3; ++ball) {
+    EXPECT_GT(world.cloths()[ball].state.x.row(1).mean(), 0.0) << "ball " << ball << " above the floor";
+  }
+}
+
+// friction_slope at angle `degrees` with Coulomb coefficient mu: how far the cloth's centre moved
+// down the slope in `frames` frames, and whether the run stayed clean.
+double slide_distance(double degrees, double mu, int frames) {
+  const double theta = degrees * pi / 180.0;
+  const Vec3 normal(-std::sin(theta), std::cos(theta), 0.0);
+  const Vec3 start = 0.0075 / std::cos(theta) * Vec3::UnitY();
+  const std::string vec = "[" + std::to_string(normal.x()) + "," + std::to_string(normal.y()) + ",0]";
+  const SceneDesc scene = load("friction_slope", {"cloths.0.grid.resolution=[8,8]", "colliders.0.normal=" + vec,
+                                                  "colliders.0.friction=" + std::to_string(mu),
+                                                  "colliders.0.static_friction=" + std::to_string(mu),
+                                                  "cloths.0.transform.rotation_degrees=[-90,0," +
+                                                      std::to_string(degrees) + "]",
+                                                  "cloths.0.transform.translation=[0," +
+                                                      std::to_string(start.y()) + ",0]"});
+  World world = build_world(scene);
+  const Vec3 centre_start = world.cloths()[0].state.x.rowwise().mean();
+  const SceneRun run = run_checked(world, scene, frames);
+  expect_clean(run, frames);
+  const Vec3 down_slope(-std::cos(theta), -std::sin(theta), 0.0);
+  return (world.cloths()[0].state.x.rowwise().mean() - centre_start).dot(down_slope);
+}
+
+TEST(CollisionScenes, FrictionSlopeHoldsBelowTheFrictionAngle) {
+  // mu = 0.4: the friction angle is atan(0.4) = 21.8 degrees.
+  EXPECT_LT(slide_distance(15.0, 0.4, 15), 0.01);
+  EXPECT_LT(slide_distance(20.0, 0.4, 15), 0.01);
+}
+
+TEST(CollisionScenes, FrictionSlopeSlidesAboveTheFrictionAngle) {
+  // Sliding accelerates at g (sin theta - mu cos theta): over 0.5 s that is 0.5 a t^2.
+  for (double degrees : {25.0, 35.0}) {
+    const double theta = degrees * pi / 180.0;
+    const double expected = 0.5 * 9.81 * (std::sin(theta) - 0.4 * std::cos(theta)) * 0.25;
+    const double distance = slide_distance(degrees, 0.4, 15);
+    EXPECT_GT(distance, 0.5 * expected) << degrees << " degrees";
+    EXPECT_LT(distance, 1.5 * expected + 0.01) << degrees << " degrees";
+  }
+}
+
+}  // namespace
+}  // namespace weft
