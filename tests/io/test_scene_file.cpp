@@ -167,13 +167,88 @@ TEST(SceneFile, FileErrorsNameTheFile) {
 }
 
 TEST(SceneFile, ShippedScenesLoadAndBuild) {
-  for (const char* name : {"default", "drape_sphere"}) {
+  for (const char* name : {"default", "drape_sphere", "two_sheets", "tumble_dryer", "twist", "fast_drop",
+                           "friction_slope", "soft_balls"}) {
     const std::string path = std::string(WEFT_SOURCE_DIR) + "/scenes/" + name + ".json";
     const SceneDesc scene = load_scene_file(path);
     const World world = build_world(scene);
     EXPECT_GE(world.cloths().size(), 1u) << name;
-    EXPECT_GE(world.colliders().size(), 1u) << name;
   }
+}
+
+const char* collision_scene = R"({
+  "collision": {"repulsion_stiffness": 500, "max_ccd_passes": 4, "max_rounds": 2},
+  "cloths": [{"grid": {"size": [1, 1], "resolution": [4, 4]}, "thickness": 0.004,
+              "friction": {"static": 0.6, "kinetic": 0.5}, "self_collision": false,
+              "initial_velocity": [0, -2, 0]}],
+  "colliders": [
+    {"type": "capsule", "center": [0, -1, 0], "axis": [1, 0, 0], "radius": 0.2, "half_length": 0.4,
+     "friction": 0.2, "static_friction": 0.25},
+    {"type": "cylinder", "center": [0, 0, 0], "axis": [0, 0, 2], "radius": 2, "half_length": 1, "capped": false,
+     "motion": {"pivot": [0, 0, 0], "axis": [0, 0, 1], "angular_velocity_degrees": 90, "velocity": [0, 0.5, 0]}},
+    {"type": "plane", "point": [0, -3, 0], "normal": [0, 2, 0], "half_size": 4}
+  ]
+})";
+
+TEST(SceneFile, CollisionKeysAreReadAndRoundTrip) {
+  const SceneDesc scene = parse_scene(json::parse(collision_scene), "scene.json");
+  EXPECT_EQ(scene.collision.repulsion_stiffness, 500.0);
+  EXPECT_EQ(scene.collision.max_ccd_passes, 4);
+  EXPECT_EQ(scene.collision.max_rounds, 2);
+  const ClothDesc& cloth = scene.cloths[0];
+  EXPECT_EQ(cloth.thickness, 0.004);
+  EXPECT_EQ(cloth.contact.static_friction, 0.6);
+  EXPECT_EQ(cloth.contact.kinetic_friction, 0.5);
+  EXPECT_FALSE(cloth.contact.self_collision);
+  EXPECT_EQ(cloth.initial_velocity, Vec3(0, -2, 0));
+  const Collider& capsule = scene.colliders[0];
+  EXPECT_EQ(capsule.shape, ColliderShape::capsule);
+  EXPECT_EQ(capsule.friction, 0.2);
+  EXPECT_EQ(capsule.static_friction, 0.25);
+  const Collider& drum = scene.colliders[1];
+  EXPECT_EQ(drum.shape, ColliderShape::cylinder);
+  EXPECT_FALSE(drum.capped);
+  EXPECT_EQ(drum.axis, Vec3::UnitZ()) << "axes are normalised";
+  EXPECT_NEAR(drum.motion.angular_velocity, pi / 2, 1e-15);
+  EXPECT_EQ(drum.motion.velocity, Vec3(0, 0.5, 0));
+  EXPECT_EQ(scene.colliders[2].static_friction, scene.colliders[2].friction) << "friction sets both by default";
+  EXPECT_EQ(scene.colliders[2].normal, Vec3::UnitY());
+  EXPECT_EQ(scene.colliders[2].plane_half_size, 4.0);
+
+  const json written = scene_to_json(scene);
+  EXPECT_EQ(scene_to_json(parse_scene(written, "scene.json")), written);
+  const World world = build_world(scene);
+  EXPECT_EQ(world.cloths()[0].state.v.col(5), Vec3(0, -2, 0));
+}
+
+TEST(SceneFile, CollisionKeyErrorsNameThePath) {
+  expect_scene_error(collision_scene, {"colliders.0.type=\"cone\""}, "/colliders/0/type",
+                     "expected one of \"plane\", \"sphere\", \"box\", \"capsule\", \"cylinder\", \"mesh\"");
+  expect_scene_error(collision_scene, {"colliders.0.axis=[0,0,0]"}, "/colliders/0/axis", "non-zero vector");
+  expect_scene_error(collision_scene, {"colliders.0.half_length=0"}, "/colliders/0/half_length", "> 0");
+  expect_scene_error(collision_scene, {"colliders.0.capped=true"}, "/colliders/0/capped", "unknown key");
+  expect_scene_error(collision_scene, {"colliders.1.motion.spin=1"}, "/colliders/1/motion/spin", "unknown key");
+  expect_scene_error(collision_scene, {"colliders.1.motion.axis=[0,0,0]"}, "/colliders/1/motion/axis",
+                     "non-zero vector");
+  expect_scene_error(collision_scene, {"colliders.0.friction=-1"}, "/colliders/0/friction", ">= 0");
+  expect_scene_error(collision_scene, {"cloths.0.friction.dynamic=1"}, "/cloths/0/friction/dynamic",
+                     "unknown key");
+  expect_scene_error(collision_scene, {"cloths.0.self_collision=1"}, "/cloths/0/self_collision", "true or false");
+  expect_scene_error(collision_scene, {"collision.max_rounds=0"}, "/collision/max_rounds", "integer in [1, 100]");
+  expect_scene_error(collision_scene, {"colliders.0={\"type\": \"mesh\"}"}, "/colliders/0", "needs an OBJ file");
+  expect_scene_error(collision_scene, {"colliders.0={\"type\": \"mesh\", \"obj\": \"nowhere.obj\"}"},
+                     "/colliders/0/obj", "nowhere.obj");
+}
+
+TEST(SceneFile, MeshCollidersLoadTheirObjBesideTheScene) {
+  testing::TempDir dir;
+  std::ofstream(dir.file("ramp.obj")) << "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 3 2\n";
+  std::ofstream(dir.file("scene.json")) << R"({"cloths": [{"grid": {"size": [1, 1], "resolution": [3, 3]}}],
+                                              "colliders": [{"type": "mesh", "obj": "ramp.obj"}]})";
+  const World world = build_world(load_scene_file(dir.file("scene.json")));
+  ASSERT_EQ(world.colliders().size(), 1u);
+  EXPECT_EQ(world.collider_surface(0).num_triangles(), 1);
+  EXPECT_EQ(world.collider_positions(0).col(1), Vec3(1, 0, 0));
 }
 
 }  // namespace

@@ -103,12 +103,14 @@ TEST(CollisionScenes, TumbleDryerStaysClean) {
 }
 
 TEST(CollisionScenes, TwistStaysClean) {
-  // Two full turns in one second instead of three in four.
-  const SceneDesc scene = load("twist", {"cloths.0.grid.resolution=[16,8]",
-                                         "cloths.0.moving_pins.0.angular_velocity_degrees=720"});
+  // A turn and a half in 0.8 s instead of three turns in four; Newton capped at 10 iterations (the
+  // twisted membrane makes it run to its limit, and the collision phase does not depend on it).
+  const SceneDesc scene =
+      load("twist", {"cloths.0.grid.resolution=[16,8]", "cloths.0.moving_pins.0.angular_velocity_degrees=675",
+                     "solver.newton.max_iterations=10"});
   World world = build_world(scene);
-  const SceneRun run = run_checked(world, scene, 30);
-  expect_clean(run, 30);
+  const SceneRun run = run_checked(world, scene, 24);
+  expect_clean(run, 24);
   EXPECT_GT(run.steps_with_contacts, 10) << "a twisted cloth touches itself";
 }
 

@@ -1,0 +1,152 @@
+// The World's collision phase on tiny inline scenes: a cloth thrown at a thin box much faster
+// than one step can resolve, two cloths crossing, a kinematic collider lifting a cloth, self-
+// collision on and off, and the contact records and stats the viewer and recordings read.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "core/intersection_check.hpp"
+#include "io/scene_builder.hpp"
+#include "io/scene_file.hpp"
+#include "support/scene_invariants.hpp"
+#include "support/temp_dir.hpp"
+
+namespace weft {
+namespace {
+
+using nlohmann::json;
+
+World world_of(const std::string& text) { return build_world(parse_scene(json::parse(text), "inline")); }
+
+void run(World& world, int steps, const testing::SceneInvariants& invariants) {
+  for (int k = 0; k < steps; ++k) {
+    world.step();
+    const testing::InvariantReport report = invariants.check(world);
+    ASSERT_TRUE(report.ok()) << "step " << k << ": " << report.first;
+  }
+}
+
+TEST(CollisionPhase, AClothThrownFasterThanAStepStopsOnAThinBox) {
+  // 30 m/s with h = 1/100: 30 cm per step against a 2 mm box, so proximity alone never sees it.
+  World world = world_of(R"({
+    "solver": {"integrator": "symplectic_euler", "time_step": 0.01},
+    "cloths": [{"grid": {"size": [0.4, 0.4], "resolution": [6, 6]}, "initial_velocity": [0, -30, 0],
+                "transform": {"translation": [0, 0.2, 0], "rotation_degrees": [-90, 0, 0]},
+                "springs": {"structural": {"stiffness": 10, "damping": 0}, "shear": {"stiffness": 0, "damping": 0},
+                            "bend": {"stiffness": 0, "damping": 0}}}],
+    "colliders": [{"type": "box", "center": [0, 0, 0], "half_extents": [1, 0.001, 1]}]
+  })");
+  const testing::SceneInvariants invariants(world);
+  run(world, 5, invariants);
+  EXPECT_GT(world.cloths()[0].state.x.row(1).minCoeff(), 0.001);
+  const StepStats& stats = world.last_step_stats();
+  EXPECT_GT(stats.vertex_face_candidates, 0);
+  EXPECT_TRUE(stats.collisions_clean);
+}
+
+TEST(CollisionPhase, RecordsSayWhatTouchedWhat) {
+  World world = world_of(R"({
+    "solver": {"integrator": "symplectic_euler", "time_step": 0.01},
+    "cloths": [{"grid": {"size": [0.4, 0.4], "resolution": [5, 5]}, "initial_velocity": [0, -3, 0],
+                "transform": {"translation": [0, 0.02, 0], "rotation_degrees": [-90, 0, 0]}, "springs": {"structural": {"stiffness": 10, "damping": 0}, "shear": {"stiffness": 0, "damping": 0},
+                            "bend": {"stiffness": 0, "damping": 0}}}],
+    "colliders": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0]}]
+  })");
+  world.step();
+  ASSERT_FALSE(world.contacts().empty());
+  const StepStats& stats = world.last_step_stats();
+  EXPECT_EQ(stats.contacts, static_cast<int>(world.contacts().size()));
+  EXPECT_EQ(stats.contacts, stats.proximity_contacts + stats.ccd_impulses);
+  for (const ContactRecord& record : world.contacts()) {
+    EXPECT_EQ(record.partners, ContactPartners::cloth_solid);
+    EXPECT_GT(record.impulse, 0.0);
+    EXPECT_LT(std::abs(record.position.y()), 0.03);
+  }
+  EXPECT_GE(stats.broad_phase_ms + stats.narrow_phase_ms + stats.response_ms, 0.0);
+  EXPECT_LE(stats.broad_phase_ms + stats.narrow_phase_ms + stats.response_ms, stats.collisions_ms + 1e-9);
+  // Every vertex stays above the plane, and none moves down any more.
+  for (int i = 0; i < world.cloths()[0].num_vertices(); ++i) {
+    EXPECT_GT(world.cloths()[0].state.x(1, i), 0.0);
+    EXPECT_GT(world.cloths()[0].state.v(1, i), -1e-9);
+  }
+}
+
+TEST(CollisionPhase, TwoClothsCrossingAtSpeedDoNotPassThrough) {
+  World world = world_of(R"({
+    "gravity": [0, 0, 0],
+    "solver": {"integrator": "symplectic_euler", "time_step": 0.005},
+    "cloths": [
+      {"grid": {"size": [0.5, 0.5], "resolution": [8, 8]}, "initial_velocity": [0, -8, 0],
+       "transform": {"translation": [0, 0.05, 0], "rotation_degrees": [-90, 0, 0]}, "springs": {"structural": {"stiffness": 10, "damping": 0}, "shear": {"stiffness": 0, "damping": 0},
+                            "bend": {"stiffness": 0, "damping": 0}}},
+      {"grid": {"size": [0.5, 0.5], "resolution": [7, 7]}, "initial_velocity": [0, 8, 0],
+       "transform": {"translation": [0.03, -0.05, 0.02], "rotation_degrees": [-90, 20, 0]}, "springs": {"structural": {"stiffness": 10, "damping": 0}, "shear": {"stiffness": 0, "damping": 0},
+                            "bend": {"stiffness": 0, "damping": 0}}}
+    ]
+  })");
+  const testing::SceneInvariants invariants(world);
+  bool cloth_cloth = false;
+  for (int k = 0; k < 10; ++k) {
+    run(world, 1, invariants);
+    for (const ContactRecord& record : world.contacts()) cloth_cloth |= record.partners == ContactPartners::cloth_cloth;
+  }
+  EXPECT_TRUE(cloth_cloth);
+  // The first cloth is still above the second in the middle.
+  const Vec3 upper = world.cloths()[0].state.x.rowwise().mean();
+  const Vec3 lower = world.cloths()[1].state.x.rowwise().mean();
+  EXPECT_GT(upper.y(), lower.y());
+}
+
+TEST(CollisionPhase, AKinematicColliderLiftsTheCloth) {
+  World world = world_of(R"({
+    "solver": {"integrator": "symplectic_euler", "time_step": 0.005},
+    "cloths": [{"grid": {"size": [0.3, 0.3], "resolution": [6, 6]},
+                "transform": {"translation": [0, 0.01, 0], "rotation_degrees": [-90, 0, 0]}, "springs": {"structural": {"stiffness": 10, "damping": 0}, "shear": {"stiffness": 0, "damping": 0},
+                            "bend": {"stiffness": 0, "damping": 0}}}],
+    "colliders": [{"type": "box", "center": [0, -0.1, 0], "half_extents": [0.5, 0.1, 0.5],
+                   "motion": {"velocity": [0, 1, 0]}}]
+  })");
+  const testing::SceneInvariants invariants(world);
+  run(world, 40, invariants);  // about 0.2 s: the box top rises from 0 to 1 m/s times that
+  const double top = world.time();
+  EXPECT_NEAR(world.collider_positions(0).row(1).maxCoeff(), top, 1e-12);
+  EXPECT_GT(world.cloths()[0].state.x.row(1).minCoeff(), top);
+  EXPECT_LT(world.cloths()[0].state.x.row(1).maxCoeff(), top + 0.02) << "carried, not thrown";
+}
+
+// One cloth made of two parallel sheets in one mesh, driven into each other: with self-collision
+// they stop, without it they pass through.
+TEST(CollisionPhase, SelfCollisionCanBeTurnedOff) {
+  testing::TempDir dir;
+  {
+    std::ofstream obj(dir.file("sheets.obj"));
+    for (double y : {0.02, -0.02}) {
+      obj << "v -0.1 " << y << " -0.1\nv 0.1 " << y << " -0.1\nv 0.1 " << y << " 0.1\nv -0.1 " << y << " 0.1\n";
+    }
+    obj << "f 1 3 2\nf 1 4 3\nf 5 7 6\nf 5 8 7\n";
+  }
+  for (bool self_collision : {true, false}) {
+    json scene = {{"gravity", {0, 0, 0}},
+                  {"solver", {{"integrator", "symplectic_euler"}, {"time_step", 0.005}}},
+                  {"cloths", {{{"obj", "sheets.obj"},
+                               {"springs", {{"structural", {{"stiffness", 0}, {"damping", 0}}},
+                                            {"bend", {{"stiffness", 0}, {"damping", 0}}}}},
+                               {"self_collision", self_collision}}}}};
+    World world = build_world(parse_scene(scene, dir.file("scene.json")));
+    Cloth& cloth = world.cloths()[0];
+    for (int i = 0; i < 4; ++i) cloth.state.v.col(i) = Vec3(0, -2, 0);
+    for (int i = 4; i < 8; ++i) cloth.state.v.col(i) = Vec3(0, 2, 0);
+    for (int k = 0; k < 10; ++k) world.step();  // 0.05 s: 0.2 m of closing, 4 cm apart
+    const double upper = cloth.state.x.row(1).head(4).mean();
+    const double lower = cloth.state.x.row(1).tail(4).mean();
+    if (self_collision) {
+      EXPECT_GT(upper, lower);
+      EXPECT_TRUE(find_triangle_intersections(cloth.state.x, cloth.model.triangles).empty());
+    } else {
+      EXPECT_LT(upper, lower) << "the sheets passed through each other";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace weft
