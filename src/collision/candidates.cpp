@@ -60,19 +60,33 @@ MeshIndexOffsets next_offsets(const MeshIndexOffsets& offsets, int num_vertices,
   return {offsets.vertex + num_vertices, offsets.triangle + num_triangles, offsets.edge + num_edges};
 }
 
-void add_self_candidates(const std::vector<TrianglePair>& pairs, const CandidateMesh& mesh,
-                         CollisionCandidates& candidates) {
+void append_self_candidates(const std::vector<TrianglePair>& pairs, const CandidateMesh& mesh,
+                            CollisionCandidates& candidates) {
   for (const TrianglePair& pair : pairs) append_pair_candidates<true>(pair.a, pair.b, mesh, mesh, candidates);
+}
+
+void append_candidates_between(const std::vector<TrianglePair>& pairs, const CandidateMesh& first,
+                               const CandidateMesh& second, CollisionCandidates& candidates) {
+  for (const TrianglePair& pair : pairs) {
+    append_pair_candidates<false>(pair.a, pair.b, first, second, candidates);
+  }
+}
+
+void sort_candidates(CollisionCandidates& candidates) {
   sort_and_deduplicate(candidates.vertex_face);
   sort_and_deduplicate(candidates.edge_edge);
 }
 
+void add_self_candidates(const std::vector<TrianglePair>& pairs, const CandidateMesh& mesh,
+                         CollisionCandidates& candidates) {
+  append_self_candidates(pairs, mesh, candidates);
+  sort_candidates(candidates);
+}
+
 void add_candidates_between(const std::vector<TrianglePair>& pairs, const CandidateMesh& first,
                             const CandidateMesh& second, CollisionCandidates& candidates) {
-  for (const TrianglePair& pair : pairs)
-    append_pair_candidates<false>(pair.a, pair.b, first, second, candidates);
-  sort_and_deduplicate(candidates.vertex_face);
-  sort_and_deduplicate(candidates.edge_edge);
+  append_candidates_between(pairs, first, second, candidates);
+  sort_candidates(candidates);
 }
 
 }  // namespace weft

@@ -60,4 +60,12 @@ void add_self_candidates(const std::vector<TrianglePair>& pairs, const Candidate
 void add_candidates_between(const std::vector<TrianglePair>& pairs, const CandidateMesh& first,
                             const CandidateMesh& second, CollisionCandidates& candidates);
 
+// The same two without the final sort: many meshes append, then sort_candidates() once.
+void append_self_candidates(const std::vector<TrianglePair>& pairs, const CandidateMesh& mesh,
+                            CollisionCandidates& candidates);
+void append_candidates_between(const std::vector<TrianglePair>& pairs, const CandidateMesh& first,
+                               const CandidateMesh& second, CollisionCandidates& candidates);
+// Sorts both lists and removes duplicates.
+void sort_candidates(CollisionCandidates& candidates);
+
 }  // namespace weft

@@ -1,6 +1,7 @@
 #include "io/scene_builder.hpp"
 
 #include <filesystem>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/topology.hpp"
@@ -188,7 +189,8 @@ World build_world(const SceneDesc& scene) {
   }
   for (size_t k = 0; k < scene.colliders.size(); ++k) {
     Collider collider = scene.colliders[k];
-    if (collider.shape == ColliderShape::mesh) {
+    const bool from_obj = collider.shape == ColliderShape::mesh;
+    if (from_obj) {
       // OBJ files are resolved against the scene file's folder, like cloth meshes.
       std::filesystem::path file(collider.obj_file);
       if (file.is_relative()) file = std::filesystem::path(scene.source_file).parent_path() / file;
@@ -200,7 +202,12 @@ World build_world(const SceneDesc& scene) {
       }
       if (collider.mesh.num_triangles() == 0) throw SceneError(scene.source_file, path, "the OBJ file has no triangles");
     }
-    world.add_collider(std::move(collider));
+    try {
+      world.add_collider(std::move(collider));
+    } catch (const std::invalid_argument& error) {
+      const std::string path = "/colliders/" + std::to_string(k) + (from_obj ? "/obj" : "");
+      throw SceneError(scene.source_file, path, error.what());
+    }
   }
   return world;
 }

@@ -118,23 +118,26 @@ void CollisionPhase::gather_motion(const std::vector<Cloth>& cloths, double t, d
     velocity_.middleCols(slot.offsets.vertex, slot.num_vertices) =
         (end - x_start_.middleCols(slot.offsets.vertex, slot.num_vertices)) / h;
   }
+  motion_valid_ = x_end_.allFinite() && velocity_.allFinite() &&
+                  (x_end_ - x_start_).cwiseAbs().maxCoeff() <= settings.max_step_displacement;
 }
 
 CollisionStep CollisionPhase::make_step() {
   return CollisionStep{x_start_, x_end_, velocity_, inverse_mass_, triangles_, edges_, time_step_};
 }
 
-// Swept boxes over the current motion, inflated by the thickness; a hierarchy that refitting
-// has made too loose is built again.
+// Swept boxes over the current motion, each inflated by half the largest thickness so that two
+// boxes overlap whenever their triangles come within a thickness; a hierarchy that refitting has
+// made too loose is built again.
 void CollisionPhase::refit_bounding_volumes() {
   for (MeshSlot& slot : meshes_) {
     if (slot.built && !slot.moves) continue;
     if (!slot.built || slot.bvh.needs_rebuild()) {
-      slot.bvh.build(x_start_, x_end_, slot.global_triangles, max_thickness_, settings.bvh);
+      slot.bvh.build(x_start_, x_end_, slot.global_triangles, box_margin(), settings.bvh);
       slot.built = true;
       ++stats_.bvh_rebuilds;
     } else {
-      slot.bvh.refit(x_start_, x_end_, max_thickness_);
+      slot.bvh.refit(x_start_, x_end_, box_margin());
     }
   }
 }
@@ -152,13 +155,14 @@ void CollisionPhase::query_candidates(CollisionCandidates& candidates) {
     const MeshSlot& cloth = meshes_[c];
     if (materials_[c].self_collision) {
       find_self_pairs(cloth.bvh, buffers_, pairs_, SharedVertexPairs::skip);
-      add_self_candidates(pairs_, candidate_mesh(cloth), candidates);
+      append_self_candidates(pairs_, candidate_mesh(cloth), candidates);
     }
     for (size_t other = c + 1; other < meshes_.size(); ++other) {
       find_pairs_between(cloth.bvh, meshes_[other].bvh, buffers_, pairs_);
-      add_candidates_between(pairs_, candidate_mesh(cloth), candidate_mesh(meshes_[other]), candidates);
+      append_candidates_between(pairs_, candidate_mesh(cloth), candidate_mesh(meshes_[other]), candidates);
     }
   }
+  sort_candidates(candidates);
   const auto immovable = [&](int v) { return inverse_mass_[v] == 0.0; };
   auto& vertex_faces = candidates.vertex_face;
   vertex_faces.erase(std::remove_if(vertex_faces.begin(), vertex_faces.end(),

@@ -46,6 +46,7 @@ struct CollisionSettings {
   int max_ccd_passes = 8;               // CCD impulse passes before impact zones
   int max_impact_zone_passes = 64;      // zone passes before the involved vertices stop
   int max_rounds = 3;                   // CCD + zones rounds while verify_motion finds collisions
+  double max_step_displacement = 100.0; // m; a vertex moving farther in one step means divergence
   BvhSettings bvh;
 };
 
@@ -86,6 +87,10 @@ class CollisionPhase {
   void begin_step(const std::vector<Cloth>& cloths, double t);
 
   void gather_motion(const std::vector<Cloth>& cloths, double t, double h);
+  // False when the gathered motion is not finite or moves a vertex farther than
+  // max_step_displacement in one step: a diverged integration, which no contact response can
+  // mend (and whose huge boxes would make every pair a candidate); the World then skips the phase.
+  bool motion_is_valid() const { return motion_valid_; }
   void find_candidates();
   void apply_proximity();
   void apply_ccd_impulses();
@@ -123,7 +128,7 @@ class CollisionPhase {
   int material_group(int mesh_a, int mesh_b) const;
   ResponseSettings response_settings(int group) const;
   ResponseSettings ccd_settings() const;
-  int mesh_of_vertex(int vertex) const { return vertex_mesh_[vertex]; }
+  double box_margin() const { return 0.5 * max_thickness_; }
   void label_records(size_t first);
 
   std::vector<MeshSlot> meshes_;            // cloths first, then colliders
@@ -132,6 +137,7 @@ class CollisionPhase {
   int num_cloths_ = 0;
   double max_thickness_ = 0.0;
   double time_step_ = 0.0;
+  bool motion_valid_ = true;
 
   // Combined state of the step.
   Positions x_start_;               // (3 x n_vertices)

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "collision/collider_geometry.hpp"
+#include "core/topology.hpp"
 #include "physics/cloth_terms.hpp"
 #include "physics/symplectic_euler.hpp"
 
@@ -30,7 +31,9 @@ void World::add_cloth(Cloth cloth, ContactMaterial material) {
 }
 
 void World::add_collider(Collider collider) {
-  collider_surfaces_.push_back(weft::collider_surface(collider));
+  TriangleMesh surface = weft::collider_surface(collider);
+  build_topology(surface.triangles, surface.num_vertices());  // throws on a broken mesh, here and not mid-step
+  collider_surfaces_.push_back(std::move(surface));
   colliders_.push_back(std::move(collider));
   collision_meshes_stale_ = true;
 }
@@ -146,6 +149,10 @@ void World::resolve_collisions(double h, StepStats& stats) {
   CollisionPhase& phase = collisions_;
   phase.settings = settings.collision;
   phase.gather_motion(cloths_, time_, h);
+  if (!phase.motion_is_valid()) {
+    stats.collisions_clean = false;  // diverged: left to the caller's divergence check
+    return;
+  }
   phase.find_candidates();
   phase.apply_proximity();
   for (int round = 0; round < std::max(1, settings.collision.max_rounds); ++round) {

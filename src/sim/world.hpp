@@ -68,7 +68,8 @@ class World {
   SolverSettings settings;
 
   void add_cloth(Cloth cloth, ContactMaterial material = {});
-  // Throws std::invalid_argument for a mesh collider without triangles.
+  // Throws std::invalid_argument for a mesh collider without triangles or with a broken one
+  // (an index out of range, a triangle repeating a vertex).
   void add_collider(Collider collider);
 
   // Advances every cloth by settings.time_step.

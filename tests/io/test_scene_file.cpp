@@ -247,6 +247,14 @@ TEST(SceneFile, MeshCollidersLoadTheirObjBesideTheScene) {
                                               "colliders": [{"type": "mesh", "obj": "ramp.obj"}]})";
   const World world = build_world(load_scene_file(dir.file("scene.json")));
   ASSERT_EQ(world.colliders().size(), 1u);
+  std::ofstream(dir.file("broken.obj")) << "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 1 2\n";
+  std::ofstream(dir.file("broken.json")) << R"({"colliders": [{"type": "mesh", "obj": "broken.obj"}]})";
+  try {
+    build_world(load_scene_file(dir.file("broken.json")));
+    FAIL() << "a triangle repeating a vertex is an error";
+  } catch (const SceneError& error) {
+    EXPECT_EQ(error.json_path(), "/colliders/0/obj") << error.what();
+  }
   EXPECT_EQ(world.collider_surface(0).num_triangles(), 1);
   EXPECT_EQ(world.collider_positions(0).col(1), Vec3(1, 0, 0));
 }
