@@ -410,6 +410,7 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
       newton.integer("max_iterations", scene.implicit.max_newton_iterations, 1, 10000);
       newton.enumeration("linear_solver", scene.implicit.linear_solver, linear_solver_names);
       newton.number("cg_tolerance", scene.implicit.cg_tolerance, positive);
+      newton.number("cg_initial_tolerance", scene.implicit.cg_initial_tolerance, positive);
       newton.integer("max_cg_iterations", scene.implicit.max_cg_iterations, 1, 1000000);
       newton.finish();
     }
@@ -517,6 +518,7 @@ json scene_to_json(const SceneDesc& scene) {
                           {"max_iterations", scene.implicit.max_newton_iterations},
                           {"linear_solver", name_of(scene.implicit.linear_solver, linear_solver_names)},
                           {"cg_tolerance", scene.implicit.cg_tolerance},
+                          {"cg_initial_tolerance", scene.implicit.cg_initial_tolerance},
                           {"max_cg_iterations", scene.implicit.max_cg_iterations}}},
                         {"adaptive",
                          {{"enabled", scene.adaptive.enabled},
