@@ -23,6 +23,7 @@ double milliseconds_since(Clock::time_point start) {
 }  // namespace
 
 void World::add_cloth(Cloth cloth) {
+  external_forces_.push_back(Positions::Zero(3, cloth.num_vertices()));
   cloths_.push_back(std::move(cloth));
   solvers_.push_back(std::make_unique<ClothSolvers>());
 }
@@ -65,6 +66,11 @@ void World::integrate(double h, StepStats& stats) {
   for (size_t c = 0; c < cloths_.size(); ++c) {
     Cloth& cloth = cloths_[c];
     ClothSolvers& solvers = *solvers_[c];
+    // External forces enter as an impulse: v += h M^-1 f (pinned vertices have inverse mass 0).
+    const Positions& external_force = external_forces_[c];
+    if (!external_force.isZero(0.0)) {
+      cloth.state.v.noalias() += h * (external_force * cloth.model.inverse_mass.asDiagonal());
+    }
     if (settings.integrator != IntegratorKind::implicit_euler && settings.adaptive.enabled) {
       const int accepted = solvers.adaptive.accepted, rejected = solvers.adaptive.rejected;
       adaptive_advance(cloth, settings.integrator, settings.gravity, h, settings.adaptive, solvers.adaptive,

@@ -62,6 +62,11 @@ class World {
   std::vector<Cloth>& cloths() { return cloths_; }
   const std::vector<Cloth>& cloths() const { return cloths_; }
   const std::vector<Collider>& colliders() const { return colliders_; }
+  std::vector<Collider>& colliders() { return colliders_; }  // live edits (friction) between steps
+  // External force on each vertex of cloth `cloth` (N, 3 x n_vertices, zero unless set), e.g. the
+  // viewer's mouse spring. Held constant over a step and applied by every integrator as the
+  // velocity impulse h f / m before it runs (exact for symplectic and implicit Euler).
+  Positions& external_force(int cloth) { return external_forces_.at(static_cast<size_t>(cloth)); }
   const StepStats& last_step_stats() const { return stats_; }
   Energies energies() const;
 
@@ -81,6 +86,7 @@ class World {
   std::vector<Cloth> cloths_;
   std::vector<std::unique_ptr<ClothSolvers>> solvers_;  // Eigen solvers do not move: held by pointer
   std::vector<Collider> colliders_;
+  std::vector<Positions> external_forces_;  // one per cloth (3 x n_vertices)
   double time_ = 0.0;
   StepStats stats_;
 };
