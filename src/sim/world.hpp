@@ -36,6 +36,7 @@ struct StepStats {
   double move_colliders_ms = 0.0;
   double integrate_ms = 0.0;
   double collisions_ms = 0.0;
+  double rest_update_ms = 0.0;
   double total_ms = 0.0;
   int contacts = 0;
   int newton_iterations = 0;       // implicit Euler, summed over cloths and sub-steps
@@ -43,6 +44,7 @@ struct StepStats {
   int accepted_steps = 0;          // adaptive stepping: steps taken
   int rejected_steps = 0;          // adaptive stepping: steps retried smaller
   double residual = 0.0;           // implicit Euler: largest final gradient norm over cloths
+  int yielded_triangles = 0;       // plasticity: triangles whose rest shape flowed
 
   // Sums the counts and times of `step` into this (the residual keeps the largest).
   StepStats& operator+=(const StepStats& step);
@@ -71,10 +73,6 @@ class World {
   Energies energies() const;
 
  private:
-  void move_colliders(double h);
-  void integrate(double h, StepStats& stats);
-  int resolve_collisions(double h);
-
   // Per-cloth integrator storage, allocated on first use of each integrator.
   struct ClothSolvers {
     ImplicitEulerSolver implicit;
@@ -82,6 +80,12 @@ class World {
     AdaptiveState adaptive;
     ClothState trial;
   };
+
+  void move_colliders(double h);
+  void integrate(double h, StepStats& stats);
+  int resolve_collisions(double h);
+  int update_rest_state();
+  void integrate_cloth(Cloth& cloth, ClothSolvers& solvers, double h, StepStats& stats);
 
   std::vector<Cloth> cloths_;
   std::vector<std::unique_ptr<ClothSolvers>> solvers_;  // Eigen solvers do not move: held by pointer
