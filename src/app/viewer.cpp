@@ -230,7 +230,7 @@ void draw_hover_tooltip(const SimulationSession& session, const ViewerState& sta
 }
 
 // Synthetic contacts spread over the first cloth, all four colours with impulse arrows: they
-// exercise the contact display until the collision module reports real ones.
+// exercise the contact display (the placeholder collision reports vertex-face, cloth-solid only).
 std::vector<ContactRecord> synthetic_contacts(const World& world) {
   std::vector<ContactRecord> contacts;
   if (world.cloths().empty()) return contacts;
@@ -239,9 +239,10 @@ std::vector<ContactRecord> synthetic_contacts(const World& world) {
   for (int i = 0, k = 0; i < cloth.num_vertices(); i += 23, ++k) {
     ContactRecord contact;
     contact.kind = k % 2 == 0 ? ContactKind::vertex_face : ContactKind::edge_edge;
-    contact.pair = (k / 2) % 2 == 0 ? ContactPair::cloth_solid : ContactPair::cloth_cloth;
+    contact.with_solid = (k / 2) % 2 == 0;
     contact.position = cloth.state.x.col(i);
-    contact.impulse = 0.15 * normals.col(i);
+    contact.normal = normals.col(i).normalized();
+    contact.impulse = 1e-3;
     contacts.push_back(contact);
   }
   return contacts;
@@ -359,9 +360,12 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
     } else {
       update_world(renderer, meshes, session.world(), state.view);
     }
-    const std::vector<ContactRecord> contacts =
-        options.test_contacts ? synthetic_contacts(session.world()) : std::vector<ContactRecord>{};
-    build_overlay(overlay, session.world(), meshes, state.view, contacts);
+    if (state.view.boxes) update_bvhs(meshes, session.world());
+    if (options.test_contacts) {
+      build_overlay(overlay, session.world(), meshes, state.view, synthetic_contacts(session.world()));
+    } else {
+      build_overlay(overlay, session.world(), meshes, state.view, session.world().contacts());
+    }
     if (mouse.drag().active()) {
       const Cloth& cloth = session.world().cloths()[static_cast<size_t>(mouse.drag().cloth())];
       overlay.add_line(cloth.state.x.col(mouse.drag().vertex()), mouse.drag().target(), Color(1.0f, 1.0f, 1.0f));

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
+#include <utility>
 
 namespace weft {
 
@@ -34,63 +34,39 @@ void DebugOverlay::add_arrow(const Vec3& from, const Vec3& to, const Color& colo
   add_line(to, to - head * direction - 0.5 * head * side, color);
 }
 
-Color contact_color(ContactKind kind, ContactPair pair) {
-  const bool cloth_cloth = pair == ContactPair::cloth_cloth;
+Color contact_color(ContactKind kind, bool with_solid) {
   if (kind == ContactKind::vertex_face) {
-    return cloth_cloth ? Color(1.0f, 0.95f, 0.2f) : Color(1.0f, 0.2f, 0.2f);  // yellow, red
+    return with_solid ? Color(1.0f, 0.2f, 0.2f) : Color(1.0f, 0.95f, 0.2f);  // red, yellow
   }
-  return cloth_cloth ? Color(0.2f, 1.0f, 0.9f) : Color(0.3f, 1.0f, 0.3f);  // cyan, green
+  return with_solid ? Color(0.3f, 1.0f, 0.3f) : Color(0.2f, 1.0f, 0.9f);  // green, cyan
 }
 
 void add_contacts(DebugOverlay& overlay, const std::vector<ContactRecord>& contacts, double arrow_scale) {
   for (const ContactRecord& contact : contacts) {
-    const Color color = contact_color(contact.kind, contact.pair);
+    const Color color = contact_color(contact.kind, contact.with_solid);
     overlay.points.push_back({contact.position, color, 7.0f});
-    if (!contact.impulse.isZero(0.0)) {
-      overlay.add_arrow(contact.position, contact.position + arrow_scale * contact.impulse, color);
-    }
+    const Vec3 arrow = arrow_scale * contact.impulse * contact.normal;
+    if (!arrow.isZero(0.0)) overlay.add_arrow(contact.position, contact.position + arrow, color);
   }
 }
 
-namespace {
-
-Eigen::AlignedBox3d triangle_box(const Positions& x, const Triangles& triangles, int t) {
-  Eigen::AlignedBox3d box;
-  for (int k = 0; k < 3; ++k) box.extend(Vec3(x.col(triangles(k, t))));
-  return box;
-}
-
-void split_to_depth(const Positions& x, const Triangles& triangles, const Positions& centroids,
-                    std::vector<int>::iterator begin, std::vector<int>::iterator end, int depth,
-                    std::vector<Eigen::AlignedBox3d>& boxes) {
-  Eigen::AlignedBox3d box;
-  for (auto it = begin; it != end; ++it) box.extend(triangle_box(x, triangles, *it));
-  if (depth == 0 || end - begin <= 1) {
-    boxes.push_back(box);
-    return;
-  }
-  int axis = 0;
-  box.diagonal().maxCoeff(&axis);
-  const auto middle = begin + (end - begin) / 2;
-  std::nth_element(begin, middle, end, [&](int a, int b) { return centroids(axis, a) < centroids(axis, b); });
-  split_to_depth(x, triangles, centroids, begin, middle, depth - 1, boxes);
-  split_to_depth(x, triangles, centroids, middle, end, depth - 1, boxes);
-}
-
-}  // namespace
-
-std::vector<Eigen::AlignedBox3d> triangle_boxes_at_depth(const Positions& x, const Triangles& triangles,
-                                                         int depth) {
+std::vector<Eigen::AlignedBox3d> bvh_boxes_at_depth(const Bvh& bvh, int depth) {
   std::vector<Eigen::AlignedBox3d> boxes;
-  const int count = static_cast<int>(triangles.cols());
-  if (count == 0) return boxes;
-  Positions centroids(3, count);
-  for (int t = 0; t < count; ++t) {
-    centroids.col(t) = (x.col(triangles(0, t)) + x.col(triangles(1, t)) + x.col(triangles(2, t))) / 3.0;
+  const std::vector<BvhNode>& nodes = bvh.nodes();
+  if (nodes.empty()) return boxes;
+  // Preorder walk: the left child is the next node, the right one is stored.
+  std::vector<std::pair<int, int>> stack{{0, 0}};  // (node, its depth)
+  while (!stack.empty()) {
+    const auto [index, node_depth] = stack.back();
+    stack.pop_back();
+    const BvhNode& node = nodes[static_cast<size_t>(index)];
+    if (node_depth >= depth || node.is_leaf()) {
+      boxes.emplace_back(node.box.lower, node.box.upper);
+      continue;
+    }
+    stack.push_back({node.right, node_depth + 1});
+    stack.push_back({index + 1, node_depth + 1});
   }
-  std::vector<int> order(static_cast<size_t>(count));
-  std::iota(order.begin(), order.end(), 0);
-  split_to_depth(x, triangles, centroids, order.begin(), order.end(), std::max(depth, 0), boxes);
   return boxes;
 }
 

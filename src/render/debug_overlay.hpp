@@ -7,9 +7,11 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "collision/bvh.hpp"
+#include "collision/collider.hpp"
+#include "collision/contact_record.hpp"
 #include "core/math.hpp"
 #include "physics/cloth.hpp"
-#include "collision/collider.hpp"
 
 namespace weft {
 
@@ -41,28 +43,15 @@ struct DebugOverlay {
   void add_arrow(const Vec3& from, const Vec3& to, const Color& color);
 };
 
-// Contacts as the collision module will report them; the viewer draws whatever list it gets.
-enum class ContactKind { vertex_face, edge_edge };
-enum class ContactPair { cloth_cloth, cloth_solid };
-
-struct ContactRecord {
-  ContactKind kind = ContactKind::vertex_face;
-  ContactPair pair = ContactPair::cloth_solid;
-  Vec3 position = Vec3::Zero();  // m, where the contact acts
-  Vec3 impulse = Vec3::Zero();   // N s, applied to the cloth at `position`
-};
-
 // Colour of a contact: vertex-face warm, edge-edge cool; cloth-cloth brighter than cloth-solid.
-Color contact_color(ContactKind kind, ContactPair pair);
+Color contact_color(ContactKind kind, bool with_solid);
 
-// Contact points coloured by kind, each with its impulse as an arrow `arrow_scale` m per N s long.
+// Contact points coloured by kind, each with its impulse as an arrow along the record's normal,
+// `arrow_scale` m per N s long (no arrow where the record has no normal or no impulse).
 void add_contacts(DebugOverlay& overlay, const std::vector<ContactRecord>& contacts, double arrow_scale);
 
-// Bounding boxes of a cloth's triangles at hierarchy depth `depth` (0: one box round the cloth):
-// each level splits a node's triangles in two at the median centroid along the box's longest axis.
-// A stand-in until the collision module's BVH is exposed; leaves stop splitting at one triangle.
-std::vector<Eigen::AlignedBox3d> triangle_boxes_at_depth(const Positions& x, const Triangles& triangles,
-                                                         int depth);
+// Boxes of the hierarchy's nodes at depth `depth` (0: the root), and of the leaves above it.
+std::vector<Eigen::AlignedBox3d> bvh_boxes_at_depth(const Bvh& bvh, int depth);
 
 // Bounding box of a sphere or box collider; empty for a plane (unbounded).
 Eigen::AlignedBox3d collider_bounds(const Collider& collider);

@@ -53,6 +53,21 @@ void update_world(Renderer& renderer, const WorldMeshes& meshes, const World& wo
   }
 }
 
+void update_bvhs(WorldMeshes& meshes, const World& world) {
+  meshes.cloth_bvhs.resize(world.cloths().size());
+  for (size_t k = 0; k < world.cloths().size(); ++k) {
+    const Cloth& cloth = world.cloths()[k];
+    Bvh& bvh = meshes.cloth_bvhs[k];
+    const bool fresh = bvh.num_vertices() != cloth.num_vertices() ||
+                       bvh.num_triangles() != static_cast<int>(cloth.model.triangles.cols());
+    if (fresh || bvh.needs_rebuild()) {
+      bvh.build(cloth.state.x, cloth.model.triangles, cloth.model.thickness);
+    } else {
+      bvh.refit(cloth.state.x, cloth.model.thickness);
+    }
+  }
+}
+
 void build_overlay(DebugOverlay& overlay, const World& world, const WorldMeshes& meshes, const ViewOptions& options,
                    const std::vector<ContactRecord>& contacts, const WorldPalette& palette) {
   overlay.clear();
@@ -64,8 +79,8 @@ void build_overlay(DebugOverlay& overlay, const World& world, const WorldMeshes&
     }
   }
   if (options.boxes) {
-    for (const Cloth& cloth : world.cloths()) {
-      for (const Eigen::AlignedBox3d& box : triangle_boxes_at_depth(cloth.state.x, cloth.model.triangles, options.box_depth)) {
+    for (const Bvh& bvh : meshes.cloth_bvhs) {
+      for (const Eigen::AlignedBox3d& box : bvh_boxes_at_depth(bvh, options.box_depth)) {
         overlay.add_box(box, palette.cloth_box);
       }
     }

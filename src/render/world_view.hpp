@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include "collision/bvh.hpp"
 #include "render/debug_overlay.hpp"
 #include "render/loop_subdivision.hpp"
 #include "render/renderer.hpp"
@@ -29,10 +30,10 @@ struct ViewOptions {
   bool wireframe = false;         // cloth edges (of the displayed, possibly subdivided, mesh)
   bool strain = false;            // heat map of the structural springs' strain
   float strain_range = 0.1f;      // strain shown at full colour
-  bool boxes = false;             // bounding boxes at box_depth
+  bool boxes = false;             // bounding-volume hierarchy boxes at box_depth
   int box_depth = 0;              // 0: one box per cloth and collider
   bool contacts = true;           // contact points and impulse arrows
-  double impulse_scale = 1.0;     // m of arrow per N s of impulse
+  double impulse_scale = 200.0;   // m of arrow per N s of impulse
   bool pins = true;               // pinned vertices as dots
   bool ground_grid = true;        // grid lines on plane colliders
   bool colliders = true;
@@ -46,6 +47,9 @@ struct WorldMeshes {
   Vec3 plane_anchor = Vec3::Zero();  // planes are drawn as squares around this point's projection
   double plane_half_size = 10.0;
   int subdivision_levels = 0;        // what the cloth meshes were built with
+  // One hierarchy of boxes per cloth, built like the collision module's (swept by nothing,
+  // inflated by the cloth's thickness), refitted by update_bvhs() while boxes are shown.
+  std::vector<Bvh> cloth_bvhs;
 };
 
 // Clears the renderer and registers the world's cloths and colliders.
@@ -56,7 +60,12 @@ WorldMeshes show_world(Renderer& renderer, const World& world, const ViewOptions
 // the display options.
 void update_world(Renderer& renderer, const WorldMeshes& meshes, const World& world, const ViewOptions& options = {});
 
-// Rebuilds `overlay` from the world: boxes, pins, ground grid, and `contacts` when shown.
+// Builds (first call, after a scene change, or when refitting has made it loose) or refits the
+// hierarchy of each cloth at its current positions.
+void update_bvhs(WorldMeshes& meshes, const World& world);
+
+// Rebuilds `overlay` from the world: boxes (of meshes.cloth_bvhs: call update_bvhs() first), pins,
+// ground grid, and `contacts` (e.g. world.contacts()) when shown.
 void build_overlay(DebugOverlay& overlay, const World& world, const WorldMeshes& meshes, const ViewOptions& options,
                    const std::vector<ContactRecord>& contacts, const WorldPalette& palette = {});
 

@@ -123,8 +123,9 @@ int World::update_rest_state() {
 
 int World::resolve_collisions(double h) {
   int contacts = 0;
+  contacts_.clear();
   for (Cloth& cloth : cloths_) {
-    contacts += resolve_placeholder_contacts(cloth, colliders_, h);
+    contacts += resolve_placeholder_contacts(cloth, colliders_, h, &contacts_);
   }
   return contacts;
 }

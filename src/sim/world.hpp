@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "collision/collider.hpp"
+#include "collision/contact_record.hpp"
 #include "physics/adaptive_stepping.hpp"
 #include "physics/cloth.hpp"
 #include "physics/implicit_euler.hpp"
@@ -70,6 +71,9 @@ class World {
   // velocity impulse h f / m before it runs (exact for symplectic and implicit Euler).
   Positions& external_force(int cloth) { return external_forces_.at(static_cast<size_t>(cloth)); }
   const StepStats& last_step_stats() const { return stats_; }
+  // Contacts the collision response acted on in the last sub-step of the last step(), for the
+  // viewer's contact display.
+  const std::vector<ContactRecord>& contacts() const { return contacts_; }
   Energies energies() const;
 
  private:
@@ -91,6 +95,7 @@ class World {
   std::vector<std::unique_ptr<ClothSolvers>> solvers_;  // Eigen solvers do not move: held by pointer
   std::vector<Collider> colliders_;
   std::vector<Positions> external_forces_;  // one per cloth (3 x n_vertices)
+  std::vector<ContactRecord> contacts_;     // of the last sub-step
   double time_ = 0.0;
   StepStats stats_;
 };
