@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   int threads = 1;
   bool version = false;
   std::string record_dir;
+  std::vector<std::string> open_panels;
   std::vector<std::string> show;
   int box_depth = 0;
   int subdivision = 0;
@@ -38,10 +39,13 @@ int main(int argc, char** argv) {
   app.add_option("--screenshot", screenshot, "Viewer: simulate --frames frames, save a PNG and exit");
   app.add_option("--record", record_dir, "Viewer: save every drawn frame as DIR/frame_NNNNN.png");
   app.add_option("--show", show,
-                 "Viewer display switches: boxes, contacts, no-contacts, wireframe, strain, no-pins, no-grid, no-colliders")
+                 "Viewer display switches: boxes, contacts, no-contacts, wireframe, strain, no-pins, no-grid, no-colliders, "
+                 "panels (the ImGui panels in saved pictures too)")
       ->delimiter(',')
       ->check(CLI::IsMember({"boxes", "contacts", "no-contacts", "wireframe", "strain", "no-pins", "no-grid",
-                             "no-colliders"}));
+                             "no-colliders", "panels"}));
+  app.add_option("--open-panel", open_panels, "Viewer: start with this panel expanded and in front")
+      ->check(CLI::IsMember({"Simulation", "Solver", "Material", "Display and collisions", "Plots"}));
   app.add_option("--box-depth", box_depth, "Viewer: bounding-box hierarchy depth shown with --show boxes")
       ->check(CLI::Range(0, 16));
   app.add_option("--subdivide", subdivision, "Viewer: Loop subdivision levels of the displayed cloth")
@@ -82,6 +86,7 @@ int main(int argc, char** argv) {
   options.frames = frames < 0 ? 0 : frames;
   options.record_dir = record_dir;
   options.show = show;
+  options.open_panels = open_panels;
   options.box_depth = box_depth;
   options.subdivision = subdivision;
   options.test_contacts = test_contacts;

@@ -10,6 +10,7 @@
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -291,6 +292,8 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
   Renderer renderer(WEFT_SHADER_DIR);
   ViewerState state;
   state.view = view_options_from(options);
+  state.panels_in_pictures =
+      std::find(options.show.begin(), options.show.end(), "panels") != options.show.end();
   state.scene_files = list_scene_files(std::filesystem::path(session.scene_path()).parent_path().string());
   if (state.scene_files.empty()) state.scene_files.push_back(session.scene_path());
   WorldMeshes meshes = show_world(renderer, session.world(), state.view);
@@ -308,8 +311,14 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
   // Screenshot: a fixed number of frames, independent of wall time, then one picture.
   const bool screenshot = !options.screenshot_path.empty();
   if (screenshot) {
-    for (int frame = 0; frame < options.frames; ++frame) session.advance_frame();
+    for (int frame = 0; frame < options.frames; ++frame) {
+      session.advance_frame();
+      state.history.record(session.world());
+    }
   }
+  // ImGui lays its windows out over a few frames: a picture with panels is taken on the third.
+  int screenshot_frames_left = state.panels_in_pictures ? 3 : 1;
+  bool first_frame = true;
   state.record_frames = !options.record_dir.empty();
   const std::string record_dir = options.record_dir.empty() ? "weft_record" : options.record_dir;
   int recorded = 0;
@@ -336,6 +345,14 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
     draw_plots_panel(state);
     draw_status_line(session, state);
     draw_hover_tooltip(session, state, mouse.drag().active());
+    if (first_frame) {
+      // Panels asked for on the command line: expanded and in front from the next frame on.
+      for (const std::string& name : options.open_panels) {
+        ImGui::SetWindowCollapsed(name.c_str(), false);
+        ImGui::SetWindowFocus(name.c_str());
+      }
+      first_frame = false;
+    }
 
     // Simulation on a wall-clock budget, so a heavy scene slows down instead of freezing the UI.
     if (session.playing && !screenshot) {
@@ -379,9 +396,11 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
       if (screenshot) return 5;
     }
 
-    // Pictures show the 3D view only; the panels are drawn after they are read.
+    // Pictures show the 3D view only unless asked: the panels are drawn after they are read.
+    if (state.panels_in_pictures) imgui.end_frame();
+    const bool take_screenshot = screenshot && --screenshot_frames_left == 0;
     try {
-      if (screenshot) save_back_buffer_png(options.screenshot_path, viewport.framebuffer_width, viewport.framebuffer_height);
+      if (take_screenshot) save_back_buffer_png(options.screenshot_path, viewport.framebuffer_width, viewport.framebuffer_height);
       if (state.save_screenshot) {
         state.save_screenshot = false;
         state.last_saved = next_free_png("weft_screenshot");
@@ -402,9 +421,9 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
       state.last_saved = error.what();
       state.record_frames = false;
     }
-    imgui.end_frame();
+    if (!state.panels_in_pictures) imgui.end_frame();
     glfwSwapBuffers(window);
-    if (screenshot) break;
+    if (take_screenshot) break;
   }
   session.before_step = nullptr;
   return 0;

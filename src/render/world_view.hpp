@@ -18,7 +18,7 @@ struct WorldPalette {
   SurfaceStyle cloth{{0.95f, 0.52f, 0.18f}, {0.22f, 0.42f, 0.85f}, 0.12f, 24.0f};  // warm front, blue back
   SurfaceStyle collider{{0.62f, 0.62f, 0.62f}, {0.38f, 0.38f, 0.38f}, 0.25f, 48.0f};
   SurfaceStyle ground{{0.40f, 0.40f, 0.41f}, {0.22f, 0.22f, 0.22f}, 0.05f, 16.0f, 0.5f};  // planes
-  Color cloth_box{0.95f, 0.3f, 0.95f};
+  Color cloth_box{0.7f, 0.45f, 1.0f};  // violet, apart from the pink pins
   Color collider_box{0.3f, 0.75f, 1.0f};
   Color pin{0.9f, 0.1f, 0.55f};
   Color grid{0.55f, 0.56f, 0.58f};

@@ -34,7 +34,7 @@ void draw_debug_panel(SimulationSession& session, ViewerState& state) {
   ImGui::Checkbox("contacts", &view.contacts);
   if (view.contacts) {
     float scale = static_cast<float>(view.impulse_scale);
-    if (ImGui::SliderFloat("impulse arrows (m per N s)", &scale, 0.01f, 100.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) {
+    if (ImGui::SliderFloat("impulse arrows (m per N s)", &scale, 0.1f, 1e4f, "%.1f", ImGuiSliderFlags_Logarithmic)) {
       view.impulse_scale = scale;
     }
   }
@@ -53,7 +53,9 @@ void draw_debug_panel(SimulationSession& session, ViewerState& state) {
     }
     ImGui::PopID();
   }
-  ImGui::TextDisabled("legend: VF red / yellow (cloth-cloth), EE green / cyan");
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+  ImGui::TextWrapped("contacts: vertex-face red (cloth-solid) / yellow (cloth-cloth), edge-edge green / cyan");
+  ImGui::PopStyleColor();
 
   ImGui::Separator();
   if (ImGui::Button("Reload shaders")) state.reload_shaders = true;

@@ -22,12 +22,13 @@ bool log_slider(const char* label, double& value, float min_value, float max_val
 
 void draw_material_panel(SimulationSession& session) {
   ImGui::SetNextWindowPos(ImVec2(10.0f, 230.0f), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(340.0f, 0.0f), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(440.0f, 0.0f), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);
   if (!ImGui::Begin("Material")) {
     ImGui::End();
     return;
   }
+  ImGui::PushItemWidth(220.0f);  // room for the labels with their units
   World& world = session.world();
   for (size_t c = 0; c < world.cloths().size(); ++c) {
     ClothModel& model = world.cloths()[c].model;
@@ -98,6 +99,7 @@ void draw_material_panel(SimulationSession& session) {
     }
     ImGui::TreePop();
   }
+  ImGui::PopItemWidth();
   ImGui::End();
 }
 

@@ -18,12 +18,13 @@ bool input_double(const char* label, double& value, double min_value, const char
 
 void draw_solver_panel(SimulationSession& session) {
   ImGui::SetNextWindowPos(ImVec2(10.0f, 190.0f), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(340.0f, 0.0f), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(440.0f, 0.0f), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);
   if (!ImGui::Begin("Solver")) {
     ImGui::End();
     return;
   }
+  ImGui::PushItemWidth(220.0f);  // room for the labels with their units
   SolverSettings& settings = session.world().settings;
   // Switching integrators between steps is safe: each keeps its own storage per cloth.
   const IntegratorKind kinds[] = {IntegratorKind::symplectic_euler, IntegratorKind::midpoint,
@@ -65,6 +66,7 @@ void draw_solver_panel(SimulationSession& session) {
   ImGui::Text("last step: %d Newton, %d CG iterations, residual %.2e", stats.newton_iterations,
               stats.linear_iterations, stats.residual);
   ImGui::Text("adaptive: %d accepted, %d rejected", stats.accepted_steps, stats.rejected_steps);
+  ImGui::PopItemWidth();
   ImGui::End();
 }
 

@@ -27,6 +27,7 @@ struct ViewerState {
   bool reload_shaders = false;
   bool save_screenshot = false;
   bool record_frames = false;      // save every drawn frame as a PNG
+  bool panels_in_pictures = false; // saved pictures include the ImGui panels
 
   // Measurements of the current frame, for the status line.
   StatsHistory history;
