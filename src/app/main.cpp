@@ -22,6 +22,12 @@ int main(int argc, char** argv) {
   bool quiet = false;
   int threads = 1;
   bool version = false;
+  std::string record_dir;
+  std::vector<std::string> open_panels;
+  std::vector<std::string> show;
+  int box_depth = 0;
+  int subdivision = 0;
+  bool test_contacts = false;
 
   app.add_option("scene", scene_path, "Scene file (JSON)")->capture_default_str();
   app.add_flag("--headless", headless, "Run without a window and record to --out");
@@ -31,6 +37,20 @@ int main(int argc, char** argv) {
   app.add_option("--set", overrides, "Override a scene field: path=value (e.g. solver.time_step=0.001)")
       ->take_all();
   app.add_option("--screenshot", screenshot, "Viewer: simulate --frames frames, save a PNG and exit");
+  app.add_option("--record", record_dir, "Viewer: save every drawn frame as DIR/frame_NNNNN.png");
+  app.add_option("--show", show,
+                 "Viewer display switches: boxes, contacts, no-contacts, wireframe, strain, no-pins, no-grid, no-colliders, "
+                 "panels (the ImGui panels in saved pictures too)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"boxes", "contacts", "no-contacts", "wireframe", "strain", "no-pins", "no-grid",
+                             "no-colliders", "panels"}));
+  app.add_option("--open-panel", open_panels, "Viewer: start with this panel expanded and in front")
+      ->check(CLI::IsMember({"Simulation", "Solver", "Material", "Display and collisions", "Plots"}));
+  app.add_option("--box-depth", box_depth, "Viewer: bounding-box hierarchy depth shown with --show boxes")
+      ->check(CLI::Range(0, 16));
+  app.add_option("--subdivide", subdivision, "Viewer: Loop subdivision levels of the displayed cloth")
+      ->check(CLI::Range(0, 2));
+  app.add_flag("--test-contacts", test_contacts, "Viewer: draw synthetic contacts (tests the contact display)");
   app.add_flag("--quiet", quiet, "Headless: no progress output");
   app.add_option("--threads", threads, "Solver threads (0: all cores)")->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_flag("--version", version, "Print the version and exit");
@@ -64,6 +84,12 @@ int main(int argc, char** argv) {
   options.overrides = overrides;
   options.screenshot_path = screenshot;
   options.frames = frames < 0 ? 0 : frames;
+  options.record_dir = record_dir;
+  options.show = show;
+  options.open_panels = open_panels;
+  options.box_depth = box_depth;
+  options.subdivision = subdivision;
+  options.test_contacts = test_contacts;
   return weft::run_viewer(options);
 #else
   std::fprintf(stderr,

@@ -14,6 +14,8 @@ struct ContactRecord {
   double impulse = 0.0;  // magnitude of the normal impulse applied (kg m/s)
   int primitive_a = -1;  // vertex (vertex-face) or edge_a (edge-edge)
   int primitive_b = -1;  // triangle (vertex-face) or edge_b (edge-edge)
+  Vec3 normal = Vec3::Zero();  // unit direction of the impulse on the vertex / edge_a; zero if not recorded
+  bool with_solid = false;     // against a collider (cloth-solid) rather than cloth (cloth-cloth)
 };
 
 }  // namespace weft

@@ -6,11 +6,14 @@
 #include <vector>
 
 #include "collision/collider.hpp"
+#include "collision/contact_record.hpp"
 #include "physics/cloth.hpp"
 
 namespace weft {
 
-// Returns the number of vertices that were in contact.
-int resolve_placeholder_contacts(Cloth& cloth, const std::vector<Collider>& colliders, double h);
+// Returns the number of vertices that were in contact; appends one vertex-face, cloth-solid
+// record per contact to `records` when it is not null.
+int resolve_placeholder_contacts(Cloth& cloth, const std::vector<Collider>& colliders, double h,
+                                 std::vector<ContactRecord>* records = nullptr);
 
 }  // namespace weft

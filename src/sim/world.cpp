@@ -23,6 +23,7 @@ double milliseconds_since(Clock::time_point start) {
 }  // namespace
 
 void World::add_cloth(Cloth cloth) {
+  external_forces_.push_back(Positions::Zero(3, cloth.num_vertices()));
   cloths_.push_back(std::move(cloth));
   solvers_.push_back(std::make_unique<ClothSolvers>());
 }
@@ -68,6 +69,12 @@ void World::integrate(double h, StepStats& stats) {
   for (size_t c = 0; c < cloths_.size(); ++c) {
     Cloth& cloth = cloths_[c];
     ClothSolvers& solvers = *solvers_[c];
+    // External forces (the viewer's mouse spring) enter as an impulse v += h M^-1 f; pinned
+    // vertices have inverse mass 0.
+    const Positions& external_force = external_forces_[c];
+    if (!external_force.isZero(0.0)) {
+      cloth.state.v.noalias() += h * (external_force * cloth.model.inverse_mass.asDiagonal());
+    }
     // Scripted pins get the velocity that lands them on their target at t + h; the integrators
     // never move a pinned vertex otherwise, and placing them afterwards removes round-off.
     const bool scripted = !cloth.model.scripted_pins.empty();
@@ -116,8 +123,9 @@ int World::update_rest_state() {
 
 int World::resolve_collisions(double h) {
   int contacts = 0;
+  contacts_.clear();
   for (Cloth& cloth : cloths_) {
-    contacts += resolve_placeholder_contacts(cloth, colliders_, h);
+    contacts += resolve_placeholder_contacts(cloth, colliders_, h, &contacts_);
   }
   return contacts;
 }

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "collision/collider.hpp"
+#include "collision/contact_record.hpp"
 #include "physics/adaptive_stepping.hpp"
 #include "physics/cloth.hpp"
 #include "physics/implicit_euler.hpp"
@@ -43,8 +44,8 @@ struct StepStats {
   int linear_iterations = 0;       // conjugate-gradient iterations, summed likewise
   int accepted_steps = 0;          // adaptive stepping: steps taken
   int rejected_steps = 0;          // adaptive stepping: steps retried smaller
-  double residual = 0.0;
-  int yielded_triangles = 0;       // plasticity: triangles whose rest shape flowed           // implicit Euler: largest final gradient norm over cloths
+  double residual = 0.0;           // implicit Euler: largest final gradient norm over cloths
+  int yielded_triangles = 0;       // plasticity: triangles whose rest shape flowed
 
   // Sums the counts and times of `step` into this (the residual keeps the largest).
   StepStats& operator+=(const StepStats& step);
@@ -64,7 +65,15 @@ class World {
   std::vector<Cloth>& cloths() { return cloths_; }
   const std::vector<Cloth>& cloths() const { return cloths_; }
   const std::vector<Collider>& colliders() const { return colliders_; }
+  std::vector<Collider>& colliders() { return colliders_; }  // live edits (friction) between steps
+  // External force on each vertex of cloth `cloth` (N, 3 x n_vertices, zero unless set), e.g. the
+  // viewer's mouse spring. Held constant over a step and applied by every integrator as the
+  // velocity impulse h f / m before it runs (exact for symplectic and implicit Euler).
+  Positions& external_force(int cloth) { return external_forces_.at(static_cast<size_t>(cloth)); }
   const StepStats& last_step_stats() const { return stats_; }
+  // Contacts the collision response acted on in the last sub-step of the last step(), for the
+  // viewer's contact display.
+  const std::vector<ContactRecord>& contacts() const { return contacts_; }
   Energies energies() const;
 
  private:
@@ -85,6 +94,8 @@ class World {
   std::vector<Cloth> cloths_;
   std::vector<std::unique_ptr<ClothSolvers>> solvers_;  // Eigen solvers do not move: held by pointer
   std::vector<Collider> colliders_;
+  std::vector<Positions> external_forces_;  // one per cloth (3 x n_vertices)
+  std::vector<ContactRecord> contacts_;     // of the last sub-step
   double time_ = 0.0;
   StepStats stats_;
 };
