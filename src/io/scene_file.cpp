@@ -274,7 +274,12 @@ ClothDesc read_cloth(const json& value, const std::string& path, const std::stri
   }
   reader.number("density", cloth.density, positive);
   reader.number("mass", cloth.mass, non_negative);
-  if (const json* springs_value = reader.find("springs")) {
+  const json* springs_value = reader.find("springs");
+  if (springs_value == nullptr && reader.find("membrane") != nullptr) {
+    // A continuum membrane replaces the lattice springs unless the scene asks for both.
+    cloth.structural = cloth.shear = cloth.bend = SpringParams{0.0, 0.0};
+  }
+  if (springs_value != nullptr) {
     ObjectReader springs(*springs_value, reader.path_of("springs"), file);
     read_spring(springs, "structural", cloth.structural, file);
     read_spring(springs, "shear", cloth.shear, file);
