@@ -65,6 +65,13 @@ class World {
   const StepStats& last_step_stats() const { return stats_; }
   Energies energies() const;
 
+  // Checkpoints (io/checkpoint.hpp) save and restore what the step carries from one call to
+  // the next beyond each cloth's state: the time, the colliders and the adaptive controller.
+  void set_time(double time) { time_ = time; }
+  std::vector<Collider>& colliders() { return colliders_; }
+  AdaptiveState& adaptive_state(int cloth) { return solvers_[cloth]->adaptive; }
+  const AdaptiveState& adaptive_state(int cloth) const { return solvers_[cloth]->adaptive; }
+
  private:
   void move_colliders(double h);
   void integrate(double h, StepStats& stats);
