@@ -24,6 +24,13 @@ using Triangles = Eigen::Matrix3Xi;  // vertex indices, counter-clockwise from t
 
 inline constexpr double pi = 3.14159265358979323846;
 
+// The cross-product matrix: cross_matrix(a) * b = a x b.
+inline Mat3 cross_matrix(const Vec3& a) {
+  Mat3 m;
+  m << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
+  return m;
+}
+
 // Rotation from Euler angles in degrees, applied about x, then y, then z (R = Rz * Ry * Rx).
 Mat3 rotation_from_euler_degrees(const Vec3& degrees);
 

@@ -13,7 +13,9 @@ namespace {
 // The cloth's rest mesh: a generated grid, or the OBJ file resolved against the scene's folder.
 TriangleMesh make_rest_mesh(const ClothDesc& desc, const SceneDesc& scene, const std::string& path) {
   TriangleMesh mesh;
-  if (desc.obj_file.empty()) {
+  if (desc.sphere) {
+    mesh = make_uv_sphere(desc.sphere_radius, desc.sphere_slices, desc.sphere_stacks);
+  } else if (desc.obj_file.empty()) {
     mesh = make_grid(desc.grid_nx, desc.grid_ny, desc.grid_width, desc.grid_height, desc.triangulation);
   } else {
     std::filesystem::path file(desc.obj_file);
@@ -50,17 +52,28 @@ Eigen::VectorXd lumped_masses(const TriangleMesh& mesh, const ClothDesc& desc, c
   return mass;
 }
 
-// Vertex indices of the named corners and edges of an nx x ny lattice (row j = 0 is the bottom).
-std::vector<int> named_grid_pins(const ClothDesc& desc) {
+// Vertex indices of a pin selection: explicit indices (checked against the vertex count), then
+// the named corners and edges of an nx x ny lattice (row j = 0 is the bottom).
+std::vector<int> selected_vertices(const PinSelection& selection, const ClothDesc& desc, int num_vertices,
+                                   const std::string& file, const std::string& path) {
   const int nx = desc.grid_nx;
   const int ny = desc.grid_ny;
   std::vector<int> pins;
-  for (const std::string& corner : desc.pin_corners) {
+  for (size_t k = 0; k < selection.vertices.size(); ++k) {
+    const int vertex = selection.vertices[k];
+    if (vertex >= num_vertices) {
+      throw SceneError(file, path + "/vertices/" + std::to_string(k),
+                       "expected a vertex index below " + std::to_string(num_vertices) + ", got " +
+                           std::to_string(vertex));
+    }
+    pins.push_back(vertex);
+  }
+  for (const std::string& corner : selection.corners) {
     const int i = corner.find("right") != std::string::npos ? nx - 1 : 0;
     const int j = corner.find("top") != std::string::npos ? ny - 1 : 0;
     pins.push_back(j * nx + i);
   }
-  for (const std::string& edge : desc.pin_edges) {
+  for (const std::string& edge : selection.edges) {
     if (edge == "bottom" || edge == "top") {
       const int j = edge == "top" ? ny - 1 : 0;
       for (int i = 0; i < nx; ++i) pins.push_back(j * nx + i);
@@ -88,26 +101,66 @@ Cloth build_cloth(const ClothDesc& desc, const SceneDesc& scene, int index) {
     params.stiffness[k] = kinds[k]->stiffness;
     params.damping[k] = kinds[k]->damping;
   }
-  if (desc.obj_file.empty()) {
+  const MeshTopology topology = build_topology(mesh.triangles, mesh.num_vertices());
+  const bool grid = !desc.sphere && desc.obj_file.empty();
+  if (grid) {
     model.grid_nx = desc.grid_nx;
     model.grid_ny = desc.grid_ny;
     model.springs = make_lattice_springs(desc.grid_nx, desc.grid_ny, desc.triangulation, mesh.positions, params);
   } else {
-    model.springs = make_mesh_springs(build_topology(mesh.triangles, mesh.num_vertices()), mesh.positions, params);
+    model.springs = make_mesh_springs(topology, mesh.positions, params);
   }
 
-  // Pins: inverse mass 0, so the integrator never moves them.
-  model.inverse_mass = model.mass.cwiseInverse();
-  for (size_t k = 0; k < desc.pin_vertices.size(); ++k) {
-    const int vertex = desc.pin_vertices[k];
-    if (vertex >= mesh.num_vertices()) {
-      throw SceneError(scene.source_file, path + "/pins/vertices/" + std::to_string(k),
-                       "expected a vertex index below " + std::to_string(mesh.num_vertices()) + ", got " +
-                           std::to_string(vertex));
+  // Continuum terms the scene turned on.
+  if (desc.membrane) {
+    try {
+      model.membrane = make_membrane_term(mesh.triangles, mesh.positions, desc.membrane_material, desc.yield_strain,
+                                          desc.plastic_flow);
+    } catch (const std::invalid_argument& error) {
+      throw SceneError(scene.source_file, path + "/membrane", error.what());
     }
+  }
+  if (desc.bending) model.bending = make_bending_term(topology, mesh.positions, desc.bending_stiffness);
+  model.air_drag.normal_coefficient = desc.normal_drag;
+  model.air_drag.tangential_coefficient = desc.tangential_drag;
+  model.air_drag.wind = scene.wind;
+  if (desc.pressure) {
+    if (!topology.boundary_edges.empty() || !topology.non_manifold_edges.empty()) {
+      throw SceneError(scene.source_file, path + "/pressure",
+                       "pressure needs a closed surface, but the mesh has " +
+                           std::to_string(topology.boundary_edges.size()) + " boundary edges");
+    }
+    model.pressure.enabled = true;
+    model.pressure.law.bulk_modulus = desc.bulk_modulus;
+    model.pressure.law.pressure_scale = desc.pressure_scale;
+    model.pressure.law.rest_volume = enclosed_volume(mesh.triangles, mesh.positions);
+    if (!(model.pressure.law.rest_volume > 0.0)) {
+      throw SceneError(scene.source_file, path + "/pressure",
+                       "the closed mesh encloses no positive volume (are its triangles facing inwards?)");
+    }
+  }
+
+  // Pins, fixed and moving: inverse mass 0, so the integrators never move them.
+  model.inverse_mass = model.mass.cwiseInverse();
+  for (int vertex : selected_vertices(desc.pins, desc, mesh.num_vertices(), scene.source_file, path + "/pins")) {
     model.inverse_mass[vertex] = 0.0;
   }
-  for (int vertex : named_grid_pins(desc)) model.inverse_mass[vertex] = 0.0;
+  for (size_t g = 0; g < desc.moving_pins.size(); ++g) {
+    const MovingPinDesc& moving = desc.moving_pins[g];
+    PinScript script;
+    script.vertices = selected_vertices(moving.selection, desc, mesh.num_vertices(), scene.source_file,
+                                        path + "/moving_pins/" + std::to_string(g));
+    script.start_positions.resize(3, static_cast<Eigen::Index>(script.vertices.size()));
+    for (size_t k = 0; k < script.vertices.size(); ++k) {
+      script.start_positions.col(static_cast<Eigen::Index>(k)) = mesh.positions.col(script.vertices[k]);
+      model.inverse_mass[script.vertices[k]] = 0.0;
+    }
+    script.velocity = moving.velocity;
+    script.center = moving.center;
+    script.axis = moving.axis;
+    script.angular_velocity = moving.angular_velocity_degrees * pi / 180.0;
+    model.scripted_pins.push_back(std::move(script));
+  }
 
   model.triangles = std::move(mesh.triangles);
   model.uvs = std::move(mesh.uvs);

@@ -23,6 +23,9 @@ struct Range {
 const Range any_number{-HUGE_VAL, HUGE_VAL, false, ""};
 const Range positive{0.0, HUGE_VAL, true, " > 0"};
 const Range non_negative{0.0, HUGE_VAL, false, " >= 0"};
+const Range poisson{0.0, 0.4999, false, " in [0, 0.5)"};
+const Range unit_open_closed{0.0, 1.0, true, " in (0, 1]"};
+const Range unit_closed{0.0, 1.0, false, " in [0, 1]"};
 
 std::string type_name(const json& value) {
   if (value.is_number_integer() || value.is_number_unsigned()) return "integer " + value.dump();
@@ -213,12 +216,37 @@ void read_names(ObjectReader& reader, const std::string& key, std::vector<std::s
   }
 }
 
+// A pin selection: "vertices", "corners" and "edges" read from `reader`'s object.
+PinSelection read_pin_selection(ObjectReader& reader) {
+  PinSelection selection;
+  if (const json* vertices = reader.find("vertices")) {
+    const std::string vertices_path = reader.path_of("vertices");
+    if (!vertices->is_array()) reader.fail(vertices_path, "expected an array of vertex indices");
+    for (size_t k = 0; k < vertices->size(); ++k) {
+      selection.vertices.push_back(
+          reader.to_integer((*vertices)[k], vertices_path + "/" + std::to_string(k), 0, 1 << 30));
+    }
+  }
+  read_names(reader, "corners", selection.corners, corner_names);
+  read_names(reader, "edges", selection.edges, edge_names);
+  return selection;
+}
+
+// Named corners and edges need a grid.
+void require_grid_for_names(const ObjectReader& reader, const ClothDesc& cloth, const PinSelection& selection) {
+  const bool grid = cloth.obj_file.empty() && !cloth.sphere;
+  if (!grid && (!selection.corners.empty() || !selection.edges.empty())) {
+    reader.fail(reader.path_of(selection.corners.empty() ? "edges" : "corners"),
+                "named corners and edges exist only on grid cloths; pin other meshes by \"vertices\"");
+  }
+}
+
 ClothDesc read_cloth(const json& value, const std::string& path, const std::string& file) {
   ClothDesc cloth;
   ObjectReader reader(value, path, file);
   reader.string("name", cloth.name);
-  if (reader.has("grid") && reader.has("obj")) {
-    reader.fail(reader.path_of("obj"), "a cloth takes either \"grid\" or \"obj\", not both");
+  if (static_cast<int>(reader.has("grid")) + reader.has("obj") + reader.has("sphere") > 1) {
+    reader.fail(path, "a cloth takes one of \"grid\", \"obj\" or \"sphere\", not several");
   }
   if (const json* grid_value = reader.find("grid")) {
     ObjectReader grid(*grid_value, reader.path_of("grid"), file);
@@ -229,6 +257,14 @@ ClothDesc read_cloth(const json& value, const std::string& path, const std::stri
   }
   reader.string("obj", cloth.obj_file);
   if (reader.has("obj") && cloth.obj_file.empty()) reader.fail(reader.path_of("obj"), "expected a file name");
+  if (const json* sphere_value = reader.find("sphere")) {
+    ObjectReader sphere(*sphere_value, reader.path_of("sphere"), file);
+    cloth.sphere = true;
+    sphere.number("radius", cloth.sphere_radius, positive);
+    sphere.integer("slices", cloth.sphere_slices, 3, 1024);
+    sphere.integer("stacks", cloth.sphere_stacks, 2, 1024);
+    sphere.finish();
+  }
   if (const json* transform_value = reader.find("transform")) {
     ObjectReader transform(*transform_value, reader.path_of("transform"), file);
     transform.vec3("translation", cloth.translation);
@@ -245,24 +281,62 @@ ClothDesc read_cloth(const json& value, const std::string& path, const std::stri
     read_spring(springs, "bend", cloth.bend, file);
     springs.finish();
   }
+  if (const json* membrane_value = reader.find("membrane")) {
+    ObjectReader membrane(*membrane_value, reader.path_of("membrane"), file);
+    cloth.membrane = true;
+    MembraneMaterial& material = cloth.membrane_material;
+    membrane.number("young_modulus", material.young_modulus, positive);
+    membrane.number("poisson_ratio", material.poisson_ratio, poisson);
+    membrane.number("thickness", material.thickness, positive);
+    membrane.number("compression_factor", material.compression_factor, unit_open_closed);
+    membrane.number("yield_strain", cloth.yield_strain, non_negative);
+    membrane.number("plastic_flow", cloth.plastic_flow, unit_closed);
+    membrane.finish();
+  }
+  if (const json* bending_value = reader.find("bending")) {
+    ObjectReader bending(*bending_value, reader.path_of("bending"), file);
+    cloth.bending = true;
+    bending.number("stiffness", cloth.bending_stiffness, non_negative);
+    bending.finish();
+  }
+  if (const json* drag_value = reader.find("air_drag")) {
+    ObjectReader drag(*drag_value, reader.path_of("air_drag"), file);
+    drag.number("normal", cloth.normal_drag, non_negative);
+    drag.number("tangential", cloth.tangential_drag, non_negative);
+    drag.finish();
+  }
+  if (const json* pressure_value = reader.find("pressure")) {
+    ObjectReader pressure(*pressure_value, reader.path_of("pressure"), file);
+    cloth.pressure = true;
+    pressure.number("bulk_modulus", cloth.bulk_modulus, positive);
+    pressure.number("pressure_scale", cloth.pressure_scale, positive);
+    pressure.finish();
+  }
   reader.number("thickness", cloth.thickness, positive);
   reader.number("mass_damping", cloth.mass_damping, non_negative);
   if (const json* pins_value = reader.find("pins")) {
     ObjectReader pins(*pins_value, reader.path_of("pins"), file);
-    if (const json* vertices = pins.find("vertices")) {
-      const std::string vertices_path = pins.path_of("vertices");
-      if (!vertices->is_array()) pins.fail(vertices_path, "expected an array of vertex indices");
-      for (size_t k = 0; k < vertices->size(); ++k) {
-        cloth.pin_vertices.push_back(
-            pins.to_integer((*vertices)[k], vertices_path + "/" + std::to_string(k), 0, 1 << 30));
-      }
-    }
-    read_names(pins, "corners", cloth.pin_corners, corner_names);
-    read_names(pins, "edges", cloth.pin_edges, edge_names);
+    cloth.pins = read_pin_selection(pins);
     pins.finish();
-    if (!cloth.obj_file.empty() && (!cloth.pin_corners.empty() || !cloth.pin_edges.empty())) {
-      pins.fail(pins.path_of(cloth.pin_corners.empty() ? "edges" : "corners"),
-                "named corners and edges exist only on grid cloths; pin an OBJ cloth by \"vertices\"");
+    require_grid_for_names(pins, cloth, cloth.pins);
+  }
+  if (const json* moving = reader.find("moving_pins")) {
+    const std::string moving_path = reader.path_of("moving_pins");
+    if (!moving->is_array()) reader.fail(moving_path, "expected an array of moving pin groups, got " + type_name(*moving));
+    for (size_t k = 0; k < moving->size(); ++k) {
+      ObjectReader group((*moving)[k], moving_path + "/" + std::to_string(k), file);
+      MovingPinDesc desc;
+      desc.selection = read_pin_selection(group);
+      group.vec3("velocity", desc.velocity);
+      group.vec3("center", desc.center);
+      group.vec3("axis", desc.axis);
+      group.number("angular_velocity_degrees", desc.angular_velocity_degrees);
+      group.finish();
+      if (!(desc.axis.norm() > 1e-12)) group.fail(group.path_of("axis"), "expected a non-zero vector");
+      desc.axis.normalize();
+      if (desc.selection.empty()) group.fail(group.path_of("vertices"), "expected at least one vertex, corner or edge");
+      require_grid_for_names(group, cloth, desc.selection);
+      cloth.moving_pins.push_back(std::move(desc));
     }
   }
   reader.finish();
@@ -324,6 +398,7 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
   ObjectReader reader(document, "", file);
   reader.string("name", scene.name);
   reader.vec3("gravity", scene.gravity);
+  reader.vec3("wind", scene.wind);
   if (const json* solver_value = reader.find("solver")) {
     ObjectReader solver(*solver_value, "/solver", file);
     solver.enumeration("integrator", scene.integrator, integrator_names);
@@ -433,6 +508,7 @@ json scene_to_json(const SceneDesc& scene) {
   json document;
   document["name"] = scene.name;
   document["gravity"] = to_json(scene.gravity);
+  document["wind"] = to_json(scene.wind);
   document["solver"] = {{"integrator", name_of(scene.integrator, integrator_names)},
                         {"time_step", scene.time_step},
                         {"substeps", scene.substeps},
@@ -453,7 +529,9 @@ json scene_to_json(const SceneDesc& scene) {
   for (const ClothDesc& cloth : scene.cloths) {
     json item;
     item["name"] = cloth.name;
-    if (cloth.obj_file.empty()) {
+    if (cloth.sphere) {
+      item["sphere"] = {{"radius", cloth.sphere_radius}, {"slices", cloth.sphere_slices}, {"stacks", cloth.sphere_stacks}};
+    } else if (cloth.obj_file.empty()) {
       item["grid"] = {{"size", {cloth.grid_width, cloth.grid_height}},
                       {"resolution", {cloth.grid_nx, cloth.grid_ny}},
                       {"triangulation", name_of(cloth.triangulation, triangulation_names)}};
@@ -469,9 +547,32 @@ json scene_to_json(const SceneDesc& scene) {
     item["springs"] = {{"structural", spring(cloth.structural)},
                        {"shear", spring(cloth.shear)},
                        {"bend", spring(cloth.bend)}};
+    if (cloth.membrane) {
+      const MembraneMaterial& material = cloth.membrane_material;
+      item["membrane"] = {{"young_modulus", material.young_modulus},   {"poisson_ratio", material.poisson_ratio},
+                          {"thickness", material.thickness},           {"compression_factor", material.compression_factor},
+                          {"yield_strain", cloth.yield_strain},        {"plastic_flow", cloth.plastic_flow}};
+    }
+    if (cloth.bending) item["bending"] = {{"stiffness", cloth.bending_stiffness}};
+    item["air_drag"] = {{"normal", cloth.normal_drag}, {"tangential", cloth.tangential_drag}};
+    if (cloth.pressure) {
+      item["pressure"] = {{"bulk_modulus", cloth.bulk_modulus}, {"pressure_scale", cloth.pressure_scale}};
+    }
     item["thickness"] = cloth.thickness;
     item["mass_damping"] = cloth.mass_damping;
-    item["pins"] = {{"vertices", cloth.pin_vertices}, {"corners", cloth.pin_corners}, {"edges", cloth.pin_edges}};
+    const auto selection = [](const PinSelection& s) {
+      return json{{"vertices", s.vertices}, {"corners", s.corners}, {"edges", s.edges}};
+    };
+    item["pins"] = selection(cloth.pins);
+    item["moving_pins"] = json::array();
+    for (const MovingPinDesc& moving : cloth.moving_pins) {
+      json group = selection(moving.selection);
+      group["velocity"] = to_json(moving.velocity);
+      group["center"] = to_json(moving.center);
+      group["axis"] = to_json(moving.axis);
+      group["angular_velocity_degrees"] = moving.angular_velocity_degrees;
+      item["moving_pins"].push_back(group);
+    }
     document["cloths"].push_back(item);
   }
   document["colliders"] = json::array();

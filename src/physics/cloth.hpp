@@ -3,7 +3,12 @@
 #include <string>
 
 #include "core/math.hpp"
+#include "physics/air_drag.hpp"
+#include "physics/hinge_bending.hpp"
 #include "physics/mass_spring.hpp"
+#include "physics/membrane_stvk.hpp"
+#include "physics/scripted_pins.hpp"
+#include "physics/volume_pressure.hpp"
 
 namespace weft {
 
@@ -14,7 +19,13 @@ struct ClothModel {
   Positions rest_positions;        // (3 x n_vertices)
   Eigen::VectorXd mass;            // lumped vertex masses, kg (n_vertices)
   Eigen::VectorXd inverse_mass;    // 0 for pinned vertices (n_vertices)
-  SpringSet springs;
+  // Force terms; each is off (and costs nothing) unless the scene turned it on.
+  SpringSet springs;               // the seed's structural, shear and bend springs
+  MembraneTerm membrane;           // StVK triangle membrane with buckling and plastic yield
+  BendingTerm bending;             // dihedral-angle hinge bending
+  AirDragTerm air_drag;            // air drag and wind
+  PressureTerm pressure;           // enclosed-volume pressure (closed soft bodies)
+  std::vector<PinScript> scripted_pins;  // moving pins (their vertices have inverse_mass 0)
   double thickness = 0.005;        // m
   double mass_damping = 0.0;       // 1/s, Rayleigh mass damping coefficient (0: off)
   int grid_nx = 0, grid_ny = 0;    // lattice size when made from a grid, else 0

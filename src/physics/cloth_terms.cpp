@@ -5,10 +5,23 @@
 
 namespace weft {
 
+TermEnergies& TermEnergies::operator+=(const TermEnergies& other) {
+  springs += other.springs;
+  membrane += other.membrane;
+  bending += other.bending;
+  pressure += other.pressure;
+  gravity += other.gravity;
+  return *this;
+}
+
 void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianStencils& stencils) {
   hessian.begin_pattern(static_cast<int>(model.rest_positions.cols()));
   stencils = HessianStencils{};
   if (model.springs.size() > 0) stencils.springs = hessian.add_stencil<2>(model.springs.vertices);
+  if (model.membrane.enabled() || model.air_drag.enabled() || model.pressure.enabled) {
+    stencils.triangles = hessian.add_stencil<3>(model.triangles);
+  }
+  if (model.bending.enabled()) stencils.hinges = hessian.add_stencil<4>(model.bending.hinges);
   hessian.finish_pattern();
   std::vector<char> fixed(model.inverse_mass.size());
   for (Eigen::Index i = 0; i < model.inverse_mass.size(); ++i) fixed[i] = model.inverse_mass[i] == 0.0;
@@ -24,6 +37,15 @@ double evaluate_potential(const ClothModel& model, const Vec3& gravity, const Po
   if (model.springs.size() > 0) {
     terms.springs = evaluate_springs(model.springs, x, gradient, hessian, stencils.springs, project);
   }
+  if (model.membrane.enabled()) {
+    terms.membrane = evaluate_membrane(model.membrane, model.triangles, x, gradient, hessian, stencils.triangles, project);
+  }
+  if (model.bending.enabled()) {
+    terms.bending = evaluate_hinge_bending(model.bending, x, gradient, hessian, stencils.hinges, project);
+  }
+  if (model.pressure.enabled) {
+    terms.pressure = evaluate_pressure(model.pressure, model.triangles, x, gradient, hessian, stencils.triangles, project);
+  }
   if (energies != nullptr) *energies = terms;
   return terms.gravity + terms.elastic();
 }
@@ -33,6 +55,10 @@ double evaluate_dissipation(const ClothModel& model, const Positions& x_start, c
   double energy = 0.0;
   if (model.springs.size() > 0) {
     energy += evaluate_spring_damping(model.springs, x_start, x, h, gradient, hessian, stencils.springs);
+  }
+  if (model.air_drag.enabled()) {
+    energy += evaluate_air_drag_dissipation(model.air_drag, model.triangles, x_start, x, h, gradient, hessian,
+                                            stencils.triangles);
   }
   if (model.mass_damping > 0.0) {
     // Rayleigh damping c M v as the potential c/(2h) |x - x_start|^2_M.
@@ -46,9 +72,15 @@ double evaluate_dissipation(const ClothModel& model, const Positions& x_start, c
 
 void compute_forces(const ClothModel& model, const Vec3& gravity, const Positions& x, const Positions& v,
                     Positions& force) {
+  // The energy terms without their own force routine add their gradient, then the sign flips.
   force.setZero();
+  if (model.membrane.enabled()) evaluate_membrane(model.membrane, model.triangles, x, &force, nullptr, -1, false);
+  if (model.bending.enabled()) evaluate_hinge_bending(model.bending, x, &force, nullptr, -1, false);
+  if (model.pressure.enabled) evaluate_pressure(model.pressure, model.triangles, x, &force, nullptr, -1, false);
+  force = -force;
   add_gravity_forces(model.mass, gravity, force);
   if (model.springs.size() > 0) add_spring_forces(model.springs, x, v, force);
+  if (model.air_drag.enabled()) add_air_drag_forces(model.air_drag, model.triangles, x, v, force);
   if (model.mass_damping > 0.0) add_mass_damping_forces(model.mass, model.mass_damping, v, force);
 }
 

@@ -10,13 +10,19 @@ namespace weft {
 // Potential energy of each term, J.
 struct TermEnergies {
   double springs = 0.0;
+  double membrane = 0.0;
+  double bending = 0.0;
+  double pressure = 0.0;
   double gravity = 0.0;
-  double elastic() const { return springs; }
+  double elastic() const { return springs + membrane + bending + pressure; }
+  TermEnergies& operator+=(const TermEnergies& other);
 };
 
-// Stencil ids of the terms in a SparseHessian (-1: term off).
+// Stencil ids of the terms in a SparseHessian (-1: no term uses it).
 struct HessianStencils {
-  int springs = -1;
+  int springs = -1;    // 2-vertex springs
+  int triangles = -1;  // membrane, drag and pressure
+  int hinges = -1;     // 4-vertex hinges
 };
 
 // Builds the Hessian's sparsity pattern for the cloth's enabled terms and its fixed vertices.

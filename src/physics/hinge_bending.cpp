@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "physics/psd_projection.hpp"
+
 namespace weft {
 
 namespace {
@@ -10,11 +12,6 @@ namespace {
 // A triangle's height over the edge must exceed this fraction of |e| for theta to be used.
 constexpr double min_relative_height = 1e-8;
 
-Mat3 cross_matrix(const Vec3& a) {
-  Mat3 m;
-  m << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
-  return m;
-}
 
 // Edge, opposite-vertex offsets and unnormalised normals of a hinge.
 struct HingeFrame {
@@ -129,6 +126,45 @@ double hinge_bending_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, cons
     add_wing_hessian(h.e, h.u2, h.n2, -1.0, 3, h.l2, angle_hessian);
     hessian->noalias() = (2.0 * k) * angle_gradient * angle_gradient.transpose();
     *hessian += (k * delta) * (angle_hessian + angle_hessian.transpose());
+  }
+  return energy;
+}
+
+BendingTerm make_bending_term(const MeshTopology& topology, const Positions& rest_positions, double stiffness) {
+  BendingTerm term;
+  term.stiffness = stiffness;
+  term.hinges.resize(4, topology.num_hinges());
+  int kept = 0;
+  for (int h = 0; h < topology.num_hinges(); ++h) {
+    const Eigen::Vector4i hinge = topology.hinges.col(h);
+    try {
+      term.rest.push_back(hinge_rest(rest_positions.col(hinge[0]), rest_positions.col(hinge[1]),
+                                     rest_positions.col(hinge[2]), rest_positions.col(hinge[3])));
+    } catch (const std::invalid_argument&) {
+      continue;  // a degenerate wing has no dihedral angle to keep
+    }
+    term.hinges.col(kept++) = hinge;
+  }
+  term.hinges.conservativeResize(4, kept);
+  return term;
+}
+
+double evaluate_hinge_bending(const BendingTerm& term, const Positions& x, Positions* gradient,
+                              SparseHessian* hessian, int stencil, bool project) {
+  double energy = 0.0;
+  Vector12d element_gradient;
+  Matrix12d element_hessian;
+  for (Eigen::Index h = 0; h < term.hinges.cols(); ++h) {
+    const Eigen::Vector4i v = term.hinges.col(h);
+    energy += hinge_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), term.rest[h], term.stiffness,
+                                   gradient ? &element_gradient : nullptr, hessian ? &element_hessian : nullptr);
+    if (gradient) {
+      for (int k = 0; k < 4; ++k) gradient->col(v[k]) += element_gradient.segment<3>(3 * k);
+    }
+    if (hessian) {
+      if (project) project_to_psd<12>(element_hessian);
+      hessian->add_element<4>(stencil, static_cast<int>(h), element_hessian);
+    }
   }
   return energy;
 }

@@ -10,7 +10,11 @@
 // e = x1 - x0: 0 when flat, positive when the hinge is convex seen from the front (a mountain:
 // the wings fold away from the normal side; every edge of an outward-facing box is +pi/2),
 // negative when concave (a valley).
+#include <vector>
+
 #include "core/math.hpp"
+#include "core/topology.hpp"
+#include "physics/sparse_hessian.hpp"
 
 namespace weft {
 
@@ -34,5 +38,21 @@ double dihedral_angle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3
 // but the gradient and Hessian are zero.
 double hinge_bending_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, const HingeRest& rest,
                             double stiffness, Vector12d* gradient, Matrix12d* hessian);
+
+// The bending term of a cloth: every interior edge of the rest mesh (no hinges: the term is off).
+struct BendingTerm {
+  Eigen::Matrix4Xi hinges;        // MeshTopology::hinges layout (4 x n_hinges)
+  std::vector<HingeRest> rest;    // per hinge
+  double stiffness = 0.0;         // J (N m)
+  bool enabled() const { return hinges.cols() > 0; }
+};
+
+// Hinges and rest angles from the rest mesh; hinges with a degenerate wing are left out.
+BendingTerm make_bending_term(const MeshTopology& topology, const Positions& rest_positions, double stiffness);
+
+// Bending energy of all hinges; adds the gradient and the (PSD-projected if asked) Hessian
+// (stencil `stencil` over term.hinges) to the outputs that are not null.
+double evaluate_hinge_bending(const BendingTerm& term, const Positions& x, Positions* gradient,
+                              SparseHessian* hessian, int stencil, bool project);
 
 }  // namespace weft

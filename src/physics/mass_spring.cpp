@@ -28,8 +28,12 @@ struct SpringLists {
 
 SpringSet pack_springs(const SpringLists& lists, const Positions& rest_positions,
                        const SpringStiffness& params) {
+  // A kind with neither stiffness nor damping is left out: a term that is off costs nothing.
+  const auto active = [&](int kind) { return params.stiffness[kind] != 0.0 || params.damping[kind] != 0.0; };
   int total = 0;
-  for (const auto& list : lists.pairs) total += static_cast<int>(list.size());
+  for (int kind = 0; kind < spring_kind_count; ++kind) {
+    if (active(kind)) total += static_cast<int>(lists.pairs[kind].size());
+  }
   SpringSet springs;
   springs.vertices.resize(2, total);
   springs.rest_length.resize(total);
@@ -38,6 +42,7 @@ SpringSet pack_springs(const SpringLists& lists, const Positions& rest_positions
   int s = 0;
   for (int kind = 0; kind < spring_kind_count; ++kind) {
     springs.kind_begin[kind] = s;
+    if (!active(kind)) continue;
     for (const auto& [i, j] : lists.pairs[kind]) {
       springs.vertices.col(s) << i, j;
       springs.rest_length[s] = (rest_positions.col(j) - rest_positions.col(i)).norm();

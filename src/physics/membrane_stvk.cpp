@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
+
+#include "physics/psd_projection.hpp"
 
 namespace weft {
 
@@ -184,6 +187,55 @@ bool apply_plastic_yield(const Vec3& x0, const Vec3& x1, const Vec3& x2, Membran
   rest.dm_inverse = (rest.dm_inverse * u_inverse).eval();
   rest.area *= rho_max * rho_min;
   return true;
+}
+
+MembraneTerm make_membrane_term(const Triangles& triangles, const Positions& rest_positions,
+                                const MembraneMaterial& material, double yield_strain, double plastic_flow) {
+  MembraneTerm term;
+  term.material = material;
+  term.yield_strain = yield_strain;
+  term.plastic_flow = plastic_flow;
+  term.rest.reserve(triangles.cols());
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    try {
+      term.rest.push_back(membrane_rest(rest_positions.col(triangles(0, t)), rest_positions.col(triangles(1, t)),
+                                        rest_positions.col(triangles(2, t))));
+    } catch (const std::invalid_argument&) {
+      throw std::invalid_argument("triangle " + std::to_string(t) + " has zero area, so it has no membrane rest shape");
+    }
+  }
+  return term;
+}
+
+double evaluate_membrane(const MembraneTerm& term, const Triangles& triangles, const Positions& x,
+                         Positions* gradient, SparseHessian* hessian, int stencil, bool project) {
+  double energy = 0.0;
+  Vector9d element_gradient;
+  Matrix9d element_hessian;
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    const int i0 = triangles(0, t), i1 = triangles(1, t), i2 = triangles(2, t);
+    energy += membrane_energy(x.col(i0), x.col(i1), x.col(i2), term.rest[t], term.material,
+                              gradient ? &element_gradient : nullptr, hessian ? &element_hessian : nullptr);
+    if (gradient) {
+      gradient->col(i0) += element_gradient.segment<3>(0);
+      gradient->col(i1) += element_gradient.segment<3>(3);
+      gradient->col(i2) += element_gradient.segment<3>(6);
+    }
+    if (hessian) {
+      if (project) project_to_psd<9>(element_hessian);
+      hessian->add_element<3>(stencil, static_cast<int>(t), element_hessian);
+    }
+  }
+  return energy;
+}
+
+int apply_membrane_plasticity(MembraneTerm& term, const Triangles& triangles, const Positions& x) {
+  int yielded = 0;
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    yielded += apply_plastic_yield(x.col(triangles(0, t)), x.col(triangles(1, t)), x.col(triangles(2, t)),
+                                   term.rest[t], term.yield_strain, term.plastic_flow);
+  }
+  return yielded;
 }
 
 }  // namespace weft

@@ -2,7 +2,10 @@
 // Triangle membrane: St. Venant-Kirchhoff in plane stress on the 3x2 deformation gradient
 // F = [x1 - x0, x2 - x0] Dm^-1, with a softer response in compression (buckling) and a plastic
 // rest-shape update. Energy, gradient and exact Hessian per triangle; force = -gradient.
+#include <vector>
+
 #include "core/math.hpp"
+#include "physics/sparse_hessian.hpp"
 
 namespace weft {
 
@@ -46,5 +49,27 @@ double membrane_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Mem
 // yield_strain >= 0 and flow_fraction in [0, 1] (std::invalid_argument otherwise).
 bool apply_plastic_yield(const Vec3& x0, const Vec3& x1, const Vec3& x2, MembraneRest& rest,
                          double yield_strain, double flow_fraction);
+
+// The membrane term of a cloth: one rest shape per triangle (empty: the term is off).
+struct MembraneTerm {
+  MembraneMaterial material;
+  std::vector<MembraneRest> rest;  // per triangle (n_triangles)
+  double yield_strain = 0.0;       // principal Green strain beyond which the rest shape flows
+  double plastic_flow = 0.0;       // fraction of the excess strain absorbed per step (0: elastic)
+  bool enabled() const { return !rest.empty(); }
+  bool plastic() const { return plastic_flow > 0.0; }
+};
+
+// Rest shapes of every triangle; throws std::invalid_argument naming the first degenerate one.
+MembraneTerm make_membrane_term(const Triangles& triangles, const Positions& rest_positions,
+                                const MembraneMaterial& material, double yield_strain, double plastic_flow);
+
+// Membrane energy of all triangles; adds the gradient and the (PSD-projected if asked) Hessian
+// (stencil `stencil` over the triangles) to the outputs that are not null.
+double evaluate_membrane(const MembraneTerm& term, const Triangles& triangles, const Positions& x,
+                         Positions* gradient, SparseHessian* hessian, int stencil, bool project);
+
+// Plastic flow of every triangle at x (apply_plastic_yield); returns how many yielded.
+int apply_membrane_plasticity(MembraneTerm& term, const Triangles& triangles, const Positions& x);
 
 }  // namespace weft

@@ -2,17 +2,9 @@
 
 #include <stdexcept>
 
+#include "physics/psd_projection.hpp"
+
 namespace weft {
-
-namespace {
-
-Mat3 cross_matrix(const Vec3& a) {
-  Mat3 m;
-  m << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
-  return m;
-}
-
-}  // namespace
 
 double triangle_signed_volume(const Vec3& x0, const Vec3& x1, const Vec3& x2, Vector9d* gradient,
                               Matrix9d* hessian) {
@@ -36,6 +28,41 @@ double pressure_energy(double volume, const PressureLaw& law, double* dE_dV, dou
   if (dE_dV) *dE_dV = law.bulk_modulus * excess / target;
   if (d2E_dV2) *d2E_dV2 = law.bulk_modulus / target;
   return 0.5 * law.bulk_modulus * excess * excess / target;
+}
+
+double enclosed_volume(const Triangles& triangles, const Positions& x) {
+  double volume = 0.0;
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    volume += triangle_signed_volume(x.col(triangles(0, t)), x.col(triangles(1, t)), x.col(triangles(2, t)), nullptr,
+                                     nullptr);
+  }
+  return volume;
+}
+
+double evaluate_pressure(const PressureTerm& term, const Triangles& triangles, const Positions& x,
+                         Positions* gradient, SparseHessian* hessian, int stencil, bool project) {
+  const double volume = enclosed_volume(triangles, x);
+  double d_energy = 0.0;
+  const double energy = pressure_energy(volume, term.law, &d_energy, nullptr);
+  if (!gradient && !hessian) return energy;
+  Vector9d volume_gradient;
+  Matrix9d volume_hessian;
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    const int i0 = triangles(0, t), i1 = triangles(1, t), i2 = triangles(2, t);
+    triangle_signed_volume(x.col(i0), x.col(i1), x.col(i2), gradient ? &volume_gradient : nullptr,
+                           hessian ? &volume_hessian : nullptr);
+    if (gradient) {
+      gradient->col(i0) += d_energy * volume_gradient.segment<3>(0);
+      gradient->col(i1) += d_energy * volume_gradient.segment<3>(3);
+      gradient->col(i2) += d_energy * volume_gradient.segment<3>(6);
+    }
+    if (hessian) {
+      Matrix9d element = d_energy * volume_hessian;
+      if (project) project_to_psd<9>(element);
+      hessian->add_element<3>(stencil, static_cast<int>(t), element);
+    }
+  }
+  return energy;
 }
 
 }  // namespace weft

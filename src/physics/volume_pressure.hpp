@@ -4,6 +4,7 @@
 // assembles dE/dx = E'(V) dV/dx and d2E/dx2 = E''(V) dV/dx dV/dx^T + E'(V) d2V/dx2; the first
 // term is a dense rank-one matrix over the body's vertices (keep it as a low-rank term).
 #include "core/math.hpp"
+#include "physics/sparse_hessian.hpp"
 
 namespace weft {
 
@@ -26,5 +27,22 @@ struct PressureLaw {
 // Returns E(V) and fills dE/dV and d2E/dV2 when not null. Throws std::invalid_argument when the
 // target volume is not positive.
 double pressure_energy(double volume, const PressureLaw& law, double* dE_dV, double* d2E_dV2);
+
+// The pressure term of a closed soft body (off unless `enabled`).
+struct PressureTerm {
+  PressureLaw law;
+  bool enabled = false;
+};
+
+// Enclosed volume of the closed, outward-oriented mesh.
+double enclosed_volume(const Triangles& triangles, const Positions& x);
+
+// Pressure energy E(V(x)); adds dE/dx = E'(V) dV/dx to `gradient` and, to `hessian`, the part
+// E'(V) d2V/dx2 assembled triangle by triangle (PSD-projected if asked). The dense rank-one part
+// E''(V) dV/dx dV/dx^T is PSD and left out of the Newton matrix: the step stays a descent
+// direction and the line search keeps it safe, at the price of linear convergence when pressure
+// dominates.
+double evaluate_pressure(const PressureTerm& term, const Triangles& triangles, const Positions& x,
+                         Positions* gradient, SparseHessian* hessian, int stencil, bool project);
 
 }  // namespace weft

@@ -9,6 +9,7 @@
 #include "physics/adaptive_stepping.hpp"
 #include "physics/implicit_euler.hpp"
 #include "physics/integrator.hpp"
+#include "physics/membrane_stvk.hpp"
 
 namespace weft {
 
@@ -16,6 +17,24 @@ namespace weft {
 struct SpringParams {
   double stiffness = 0.0;
   double damping = 0.0;
+};
+
+// Vertices picked by index, by named grid corner ("top_left", ...) and by grid edge ("top", ...).
+struct PinSelection {
+  std::vector<int> vertices;
+  std::vector<std::string> corners;
+  std::vector<std::string> edges;
+  bool empty() const { return vertices.empty() && corners.empty() && edges.empty(); }
+};
+
+// Pinned vertices that move rigidly (physics/scripted_pins.hpp): translation plus rotation about
+// an axis through `center`.
+struct MovingPinDesc {
+  PinSelection selection;
+  Vec3 velocity = Vec3::Zero();          // m/s
+  Vec3 center = Vec3::Zero();            // m
+  Vec3 axis = Vec3::UnitY();             // normalised on load
+  double angular_velocity_degrees = 0.0; // degrees/s
 };
 
 struct ClothDesc {
@@ -28,6 +47,10 @@ struct ClothDesc {
   int grid_ny = 32;               // vertices along local y
   GridTriangulation triangulation = GridTriangulation::alternating;
   std::string obj_file;           // resolved relative to the scene file's folder
+  bool sphere = false;            // a closed UV sphere instead (soft bodies)
+  double sphere_radius = 0.5;     // m
+  int sphere_slices = 24;         // around the Y axis
+  int sphere_stacks = 12;         // pole to pole
 
   // Placement: x -> R(rotation_degrees) * (scale * x) + translation.
   Vec3 translation = Vec3::Zero();
@@ -42,19 +65,31 @@ struct ClothDesc {
   SpringParams shear{500.0, 0.2};
   SpringParams bend{50.0, 0.05};
 
+  // Continuum terms, each off unless the scene has its key.
+  bool membrane = false;
+  MembraneMaterial membrane_material{5e6, 0.3, 5e-4, 0.1};  // Pa, -, m, compression factor
+  double yield_strain = 0.0;      // plastic yield: principal Green strain limit
+  double plastic_flow = 0.0;      // fraction of the excess absorbed per step (0: elastic)
+  bool bending = false;
+  double bending_stiffness = 5e-5;  // J
+  double normal_drag = 0.0;       // kg/(m^2 s)
+  double tangential_drag = 0.0;   // kg/(m^2 s)
+  bool pressure = false;
+  double bulk_modulus = 1e4;      // Pa
+  double pressure_scale = 1.0;    // target volume / rest volume
+
   double thickness = 0.005;       // m, contact offset from colliders
   double mass_damping = 0.0;      // 1/s, damps every vertex velocity: f = -c m v
 
-  // Pins: vertex indices, named grid corners ("top_left", ...) and grid edges ("top", ...).
-  std::vector<int> pin_vertices;
-  std::vector<std::string> pin_corners;
-  std::vector<std::string> pin_edges;
+  PinSelection pins;                      // fixed vertices
+  std::vector<MovingPinDesc> moving_pins; // scripted vertices
 };
 
 struct SceneDesc {
   std::string source_file;        // where it came from, for error messages ("<inline>" if none)
   std::string name = "untitled";
   Vec3 gravity{0.0, -9.81, 0.0};  // m/s^2
+  Vec3 wind = Vec3::Zero();       // m/s, the air's velocity (cloths with air_drag feel it)
   IntegratorKind integrator = IntegratorKind::symplectic_euler;
   double time_step = 1.0 / 600.0; // s, the largest step; each frame is cut into equal steps <= this
   int substeps = 1;               // integration sub-steps per time step

@@ -53,6 +53,9 @@ void World::step() {
     stats.collisions_ms += milliseconds_since(phase_start);
 
     time_ += h;
+    phase_start = Clock::now();
+    stats.yielded_triangles += update_rest_state();
+    stats.rest_update_ms += milliseconds_since(phase_start);
   }
   stats.total_ms = milliseconds_since(step_start);
   stats_ = stats;
@@ -65,30 +68,50 @@ void World::integrate(double h, StepStats& stats) {
   for (size_t c = 0; c < cloths_.size(); ++c) {
     Cloth& cloth = cloths_[c];
     ClothSolvers& solvers = *solvers_[c];
-    if (settings.integrator != IntegratorKind::implicit_euler && settings.adaptive.enabled) {
-      const int accepted = solvers.adaptive.accepted, rejected = solvers.adaptive.rejected;
-      adaptive_advance(cloth, settings.integrator, settings.gravity, h, settings.adaptive, solvers.adaptive,
-                       solvers.explicit_workspace, solvers.trial);
-      stats.accepted_steps += solvers.adaptive.accepted - accepted;
-      stats.rejected_steps += solvers.adaptive.rejected - rejected;
-      continue;
-    }
-    switch (settings.integrator) {
-      case IntegratorKind::symplectic_euler:
-        symplectic_euler_step(cloth, settings.gravity, h);
-        break;
-      case IntegratorKind::midpoint:
-        midpoint_step(cloth, settings.gravity, h, solvers.explicit_workspace);
-        break;
-      case IntegratorKind::implicit_euler: {
-        const NewtonReport& report = solvers.implicit.step(cloth, settings.gravity, h, settings.implicit);
-        stats.newton_iterations += report.newton_iterations;
-        stats.linear_iterations += report.linear_iterations;
-        if (!report.gradient_norms.empty()) stats.residual = std::max(stats.residual, report.gradient_norms.back());
-        break;
-      }
+    // Scripted pins get the velocity that lands them on their target at t + h; the integrators
+    // never move a pinned vertex otherwise, and placing them afterwards removes round-off.
+    const bool scripted = !cloth.model.scripted_pins.empty();
+    if (scripted) drive_scripted_pins(cloth.model.scripted_pins, time_, h, cloth.state.x, cloth.state.v);
+    integrate_cloth(cloth, solvers, h, stats);
+    if (scripted) place_scripted_pins(cloth.model.scripted_pins, time_ + h, cloth.state.x);
+  }
+}
+
+void World::integrate_cloth(Cloth& cloth, ClothSolvers& solvers, double h, StepStats& stats) {
+  if (settings.integrator != IntegratorKind::implicit_euler && settings.adaptive.enabled) {
+    const int accepted = solvers.adaptive.accepted, rejected = solvers.adaptive.rejected;
+    adaptive_advance(cloth, settings.integrator, settings.gravity, h, settings.adaptive, solvers.adaptive,
+                     solvers.explicit_workspace, solvers.trial);
+    stats.accepted_steps += solvers.adaptive.accepted - accepted;
+    stats.rejected_steps += solvers.adaptive.rejected - rejected;
+    return;
+  }
+  switch (settings.integrator) {
+    case IntegratorKind::symplectic_euler:
+      symplectic_euler_step(cloth, settings.gravity, h);
+      break;
+    case IntegratorKind::midpoint:
+      midpoint_step(cloth, settings.gravity, h, solvers.explicit_workspace);
+      break;
+    case IntegratorKind::implicit_euler: {
+      const NewtonReport& report = solvers.implicit.step(cloth, settings.gravity, h, settings.implicit);
+      stats.newton_iterations += report.newton_iterations;
+      stats.linear_iterations += report.linear_iterations;
+      if (!report.gradient_norms.empty()) stats.residual = std::max(stats.residual, report.gradient_norms.back());
+      break;
     }
   }
+}
+
+// Plastic flow: membrane rest shapes follow strains past the yield limit (DESIGN.md step 4).
+int World::update_rest_state() {
+  int yielded = 0;
+  for (Cloth& cloth : cloths_) {
+    if (cloth.model.membrane.plastic()) {
+      yielded += apply_membrane_plasticity(cloth.model.membrane, cloth.model.triangles, cloth.state.x);
+    }
+  }
+  return yielded;
 }
 
 int World::resolve_collisions(double h) {
@@ -108,8 +131,7 @@ Energies World::energies() const {
     evaluate_potential(cloth.model, settings.gravity, state.x, nullptr, nullptr, HessianStencils{}, false, &terms);
     energies.gravitational += terms.gravity;
     energies.elastic += terms.elastic();
-    energies.terms.springs += terms.springs;
-    energies.terms.gravity += terms.gravity;
+    energies.terms += terms;
   }
   return energies;
 }
@@ -119,7 +141,9 @@ StepStats& StepStats::operator+=(const StepStats& step) {
   integrate_ms += step.integrate_ms;
   collisions_ms += step.collisions_ms;
   total_ms += step.total_ms;
+  rest_update_ms += step.rest_update_ms;
   contacts = step.contacts;
+  yielded_triangles += step.yielded_triangles;
   newton_iterations += step.newton_iterations;
   linear_iterations += step.linear_iterations;
   accepted_steps += step.accepted_steps;

@@ -36,13 +36,15 @@ struct StepStats {
   double move_colliders_ms = 0.0;
   double integrate_ms = 0.0;
   double collisions_ms = 0.0;
+  double rest_update_ms = 0.0;
   double total_ms = 0.0;
   int contacts = 0;
   int newton_iterations = 0;       // implicit Euler, summed over cloths and sub-steps
   int linear_iterations = 0;       // conjugate-gradient iterations, summed likewise
   int accepted_steps = 0;          // adaptive stepping: steps taken
   int rejected_steps = 0;          // adaptive stepping: steps retried smaller
-  double residual = 0.0;           // implicit Euler: largest final gradient norm over cloths
+  double residual = 0.0;
+  int yielded_triangles = 0;       // plasticity: triangles whose rest shape flowed           // implicit Euler: largest final gradient norm over cloths
 
   // Sums the counts and times of `step` into this (the residual keeps the largest).
   StepStats& operator+=(const StepStats& step);
@@ -73,10 +75,6 @@ class World {
   const AdaptiveState& adaptive_state(int cloth) const { return solvers_[cloth]->adaptive; }
 
  private:
-  void move_colliders(double h);
-  void integrate(double h, StepStats& stats);
-  int resolve_collisions(double h);
-
   // Per-cloth integrator storage, allocated on first use of each integrator.
   struct ClothSolvers {
     ImplicitEulerSolver implicit;
@@ -84,6 +82,12 @@ class World {
     AdaptiveState adaptive;
     ClothState trial;
   };
+
+  void move_colliders(double h);
+  void integrate(double h, StepStats& stats);
+  int resolve_collisions(double h);
+  int update_rest_state();
+  void integrate_cloth(Cloth& cloth, ClothSolvers& solvers, double h, StepStats& stats);
 
   std::vector<Cloth> cloths_;
   std::vector<std::unique_ptr<ClothSolvers>> solvers_;  // Eigen solvers do not move: held by pointer

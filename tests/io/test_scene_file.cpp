@@ -111,7 +111,7 @@ TEST(SceneFile, NonFiniteNumbersAreRejected) {
 
 TEST(SceneFile, MissingObjFileNamesTheObjField) {
   expect_scene_error(R"({"cloths": [{"obj": "no_such_mesh.obj"}]})", {}, "/cloths/0/obj", "no_such_mesh.obj");
-  expect_scene_error(R"({"cloths": [{"obj": "x.obj", "grid": {}}]})", {}, "/cloths/0/obj", "not both");
+  expect_scene_error(R"({"cloths": [{"obj": "x.obj", "grid": {}}]})", {}, "/cloths/0", "not several");
   expect_scene_error(R"({"cloths": [{"obj": "x.obj", "pins": {"corners": ["top_left"]}}]})", {},
                      "/cloths/0/pins/corners", "only on grid cloths");
 }
@@ -143,7 +143,7 @@ TEST(SceneFile, ResolvedSceneRoundTrips) {
   const json written = scene_to_json(scene);
   const SceneDesc again = parse_scene(written, "scene.json");
   EXPECT_EQ(scene_to_json(again), written);
-  EXPECT_EQ(again.cloths[0].pin_corners, std::vector<std::string>{"top_left"});
+  EXPECT_EQ(again.cloths[0].pins.corners, std::vector<std::string>{"top_left"});
 }
 
 TEST(SceneFile, FileErrorsNameTheFile) {

@@ -75,7 +75,7 @@ TEST(MassSpring, DampingOpposesRelativeVelocityAlongTheSpringOnly) {
 TEST(MassSpring, LatticeHasProvotsSpringCounts) {
   const int nx = 7, ny = 5;
   SpringStiffness params;
-  params.stiffness[0] = 1.0;
+  params.stiffness[0] = params.stiffness[1] = params.stiffness[2] = 1.0;
   for (GridTriangulation triangulation : {GridTriangulation::regular, GridTriangulation::cross}) {
     const TriangleMesh grid = make_grid(nx, ny, 1.2, 0.8, triangulation);
     const SpringSet springs = make_lattice_springs(nx, ny, triangulation, grid.positions, params);
@@ -88,6 +88,17 @@ TEST(MassSpring, LatticeHasProvotsSpringCounts) {
       EXPECT_NEAR(length, 0.2, 1e-12);  // 1.2 / 6 along x, 0.8 / 4 along y
     }
   }
+}
+
+TEST(MassSpring, KindsWithoutStiffnessOrDampingAreNotPacked) {
+  const TriangleMesh grid = make_grid(5, 5, 1.0, 1.0, GridTriangulation::regular);
+  SpringStiffness params;
+  params.stiffness[0] = 1.0;
+  params.damping[2] = 0.5;
+  const SpringSet springs = make_lattice_springs(5, 5, GridTriangulation::regular, grid.positions, params);
+  EXPECT_EQ(springs.count(SpringKind::structural), 2 * 4 * 5);
+  EXPECT_EQ(springs.count(SpringKind::shear), 0);  // an off term costs nothing
+  EXPECT_EQ(springs.count(SpringKind::bend), 2 * 3 * 5);  // damping alone keeps the kind
 }
 
 TEST(MassSpring, SetSpringParamsChangesOneKindOnly) {

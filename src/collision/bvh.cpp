@@ -1,0 +1,410 @@
+#include "collision/bvh.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+namespace weft {
+
+double Aabb::surface_area() const {
+  if (empty()) return 0.0;
+  const Vec3 size = upper - lower;
+  return 2.0 * (size.x() * size.y() + size.y() * size.z() + size.z() * size.x());
+}
+
+namespace {
+
+// Below this many triangles, refitting the triangle boxes is not worth starting threads for.
+constexpr int parallel_refit_threshold = 4096;
+
+// Node-pair tasks handed to threads in a pair query: enough that dynamic scheduling balances
+// two to a few dozen threads; a fixed number, so the split of the work is the same for any
+// thread count.
+constexpr int target_task_count = 256;
+
+void check_positions(const Positions& x_start, const Positions& x_end, double margin, const char* where) {
+  if (x_start.cols() != x_end.cols()) {
+    throw std::invalid_argument(std::string(where) + ": x_start has " + std::to_string(x_start.cols()) +
+                                " vertices but x_end has " + std::to_string(x_end.cols()));
+  }
+  if (!(margin >= 0.0)) {
+    throw std::invalid_argument(std::string(where) + ": margin must be >= 0, got " + std::to_string(margin));
+  }
+}
+
+bool share_vertex(const Triangles& triangles, int s, int t) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (triangles(i, s) == triangles(j, t)) return true;
+    }
+  }
+  return false;
+}
+
+// Splits the node pair `task` one level into `out`. Returns false when it cannot be split
+// (within one leaf, or two leaves): the caller keeps it whole. A pair of disjoint nodes splits
+// into nothing. With `self`, (n, n) stands for the pairs within node n, which are its two
+// children's within-pairs and the pair of its children.
+template <bool self>
+bool split_task(const std::vector<BvhNode>& first, const std::vector<BvhNode>& second, TrianglePair task,
+                std::vector<TrianglePair>& out) {
+  const BvhNode& a = first[task.a];
+  const BvhNode& b = second[task.b];
+  if (self && task.a == task.b) {
+    if (a.is_leaf()) return false;
+    out.push_back({task.a + 1, task.a + 1});
+    out.push_back({a.right, a.right});
+    out.push_back({task.a + 1, a.right});
+    return true;
+  }
+  if (!a.box.overlaps(b.box)) return true;
+  if (a.is_leaf() && b.is_leaf()) return false;
+  // Descend the larger box, so both sides shrink at a similar pace.
+  if (b.is_leaf() || (!a.is_leaf() && a.box.surface_area() >= b.box.surface_area())) {
+    out.push_back({task.a + 1, task.b});
+    out.push_back({a.right, task.b});
+  } else {
+    out.push_back({task.a, task.b + 1});
+    out.push_back({task.a, b.right});
+  }
+  return true;
+}
+
+// Triangle pairs of leaf `a` of `first` against leaf `b` of `second` whose boxes overlap.
+// With `self`, (a, a) means pairs within the leaf, each pair is written with the smaller
+// triangle first, and pairs sharing a vertex are skipped unless `keep_neighbours`.
+template <bool self>
+void leaf_pairs(const Bvh& first, const Bvh& second, int a, int b, bool keep_neighbours,
+                std::vector<TrianglePair>& found) {
+  const BvhNode& leaf_a = first.nodes()[a];
+  const BvhNode& leaf_b = second.nodes()[b];
+  const std::vector<int>& order_a = first.triangle_order();
+  const std::vector<int>& order_b = second.triangle_order();
+  const std::vector<Aabb>& boxes_a = first.triangle_boxes();
+  const std::vector<Aabb>& boxes_b = second.triangle_boxes();
+  for (int i = 0; i < leaf_a.count; ++i) {
+    const int s = order_a[leaf_a.first + i];
+    const Aabb& box_s = boxes_a[s];
+    for (int j = (self && a == b) ? i + 1 : 0; j < leaf_b.count; ++j) {
+      const int t = order_b[leaf_b.first + j];
+      if (!box_s.overlaps(boxes_b[t])) continue;
+      if (self) {
+        if (!keep_neighbours && share_vertex(first.triangles(), s, t)) continue;
+        found.push_back({std::min(s, t), std::max(s, t)});
+      } else {
+        found.push_back({s, t});
+      }
+    }
+  }
+}
+
+// Visits node pair `task` and everything below it depth first, appending triangle pairs.
+template <bool self>
+void traverse(const Bvh& first, const Bvh& second, TrianglePair task, bool keep_neighbours,
+              std::vector<TrianglePair>& stack, std::vector<TrianglePair>& found) {
+  stack.clear();
+  stack.push_back(task);
+  while (!stack.empty()) {
+    const TrianglePair top = stack.back();
+    stack.pop_back();
+    if (!split_task<self>(first.nodes(), second.nodes(), top, stack)) {
+      leaf_pairs<self>(first, second, top.a, top.b, keep_neighbours, found);
+    }
+  }
+}
+
+// Splits the root task breadth first, serially, until there are enough tasks for the threads,
+// then traverses the tasks in parallel into per-thread lists, and sorts and deduplicates those
+// into `pairs`.
+template <bool self>
+void find_pairs(const Bvh& first, const Bvh& second, bool keep_neighbours, BvhQueryBuffers& buffers,
+                std::vector<TrianglePair>& pairs) {
+  pairs.clear();
+  if (first.nodes().empty() || second.nodes().empty()) return;
+
+  // Tasks: split every splittable task per round; unsplittable ones carry over unchanged.
+  std::vector<TrianglePair>& tasks = buffers.tasks;
+  tasks.clear();
+  tasks.push_back({0, 0});
+  while (static_cast<int>(tasks.size()) < target_task_count) {
+    std::vector<TrianglePair>& next = buffers.next_tasks;
+    next.clear();
+    bool split_any = false;
+    for (const TrianglePair& task : tasks) {
+      if (split_task<self>(first.nodes(), second.nodes(), task, next)) {
+        split_any = true;
+      } else {
+        next.push_back(task);
+      }
+    }
+    tasks.swap(next);
+    if (!split_any) break;
+  }
+
+  // Per-thread buffers grow to the largest thread count seen, then stay.
+  const int num_threads = std::max(1, omp_get_max_threads());
+  if (static_cast<int>(buffers.thread_stacks.size()) < num_threads) {
+    buffers.thread_stacks.resize(num_threads);
+    buffers.thread_pairs.resize(num_threads);
+  }
+  for (std::vector<TrianglePair>& found : buffers.thread_pairs) found.clear();
+
+  // Traversal: dynamic scheduling, since subtrees differ widely in how many pairs they hold.
+  const int num_tasks = static_cast<int>(tasks.size());
+#pragma omp parallel num_threads(num_threads)
+  {
+    const int thread = omp_get_thread_num();
+    std::vector<TrianglePair>& stack = buffers.thread_stacks[thread];
+    std::vector<TrianglePair>& found = buffers.thread_pairs[thread];
+#pragma omp for schedule(dynamic, 1)
+    for (int k = 0; k < num_tasks; ++k) {
+      traverse<self>(first, second, tasks[k], keep_neighbours, stack, found);
+    }
+  }
+
+  // Sort by counting: bucket the pairs by their first triangle, then sort each small bucket by
+  // the second. Linear in the pairs, and the order does not depend on which thread found what.
+  std::vector<int>& bucket_ends = buffers.bucket_ends;
+  bucket_ends.assign(first.num_triangles() + 1, 0);
+  std::size_t total = 0;
+  for (const std::vector<TrianglePair>& found : buffers.thread_pairs) {
+    total += found.size();
+    for (const TrianglePair& pair : found) ++bucket_ends[pair.a + 1];
+  }
+  // Exclusive prefix sums: bucket_ends[a] is where bucket a starts; scattering advances it to
+  // where bucket a ends.
+  for (int a = 0; a < first.num_triangles(); ++a) bucket_ends[a + 1] += bucket_ends[a];
+  pairs.resize(total);
+  for (const std::vector<TrianglePair>& found : buffers.thread_pairs) {
+    for (const TrianglePair& pair : found) pairs[bucket_ends[pair.a]++] = pair;
+  }
+  int bucket_start = 0;
+  for (int a = 0; a < first.num_triangles(); ++a) {
+    std::sort(pairs.begin() + bucket_start, pairs.begin() + bucket_ends[a]);
+    bucket_start = bucket_ends[a];
+  }
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+}
+
+}  // namespace
+
+void Bvh::build(const Positions& x_start, const Positions& x_end, const Triangles& triangles, double margin,
+                const BvhSettings& settings) {
+  check_positions(x_start, x_end, margin, "Bvh::build");
+  if (settings.max_leaf_size < 1 || settings.sah_bins < 2) {
+    throw std::invalid_argument("Bvh::build: needs max_leaf_size >= 1 and sah_bins >= 2");
+  }
+  const int num_vertices = static_cast<int>(x_start.cols());
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      if (triangles(k, t) < 0 || triangles(k, t) >= num_vertices) {
+        throw std::invalid_argument("Bvh::build: triangle " + std::to_string(t) + " has vertex index " +
+                                    std::to_string(triangles(k, t)) + " outside [0, " +
+                                    std::to_string(num_vertices) + ")");
+      }
+    }
+  }
+  settings_ = settings;
+  triangles_ = triangles;
+  num_vertices_ = num_vertices;
+  triangle_boxes_.resize(triangles.cols());
+  compute_triangle_boxes(x_start, x_end, margin);
+  build_nodes();
+  refit_nodes();
+  cost_at_build_ = cost_;
+}
+
+void Bvh::refit(const Positions& x_start, const Positions& x_end, double margin) {
+  check_positions(x_start, x_end, margin, "Bvh::refit");
+  if (x_start.cols() != num_vertices_) {
+    throw std::invalid_argument("Bvh::refit: built for " + std::to_string(num_vertices_) + " vertices, got " +
+                                std::to_string(x_start.cols()));
+  }
+  compute_triangle_boxes(x_start, x_end, margin);
+  refit_nodes();
+}
+
+void Bvh::compute_triangle_boxes(const Positions& x_start, const Positions& x_end, double margin) {
+  // Each triangle's box over its three vertices at both ends of the step, then inflated.
+  const int num_triangles = this->num_triangles();
+#pragma omp parallel for schedule(static) if (num_triangles > parallel_refit_threshold)
+  for (int t = 0; t < num_triangles; ++t) {
+    Aabb box;
+    for (int k = 0; k < 3; ++k) {
+      const int v = triangles_(k, t);
+      box.grow(Vec3(x_start.col(v)));
+      box.grow(Vec3(x_end.col(v)));
+    }
+    box.lower.array() -= margin;
+    box.upper.array() += margin;
+    triangle_boxes_[t] = box;
+  }
+}
+
+void Bvh::build_nodes() {
+  const int num_triangles = this->num_triangles();
+  nodes_.clear();
+  triangle_order_.resize(num_triangles);
+  std::iota(triangle_order_.begin(), triangle_order_.end(), 0);
+  if (num_triangles == 0) return;
+  nodes_.reserve(2 * static_cast<std::size_t>(num_triangles));
+
+  std::vector<Vec3> centroids(num_triangles);
+  for (int t = 0; t < num_triangles; ++t)
+    centroids[t] = 0.5 * (triangle_boxes_[t].lower + triangle_boxes_[t].upper);
+
+  const int num_bins = settings_.sah_bins;
+  std::vector<Aabb> bin_boxes(num_bins);
+  std::vector<int> bin_counts(num_bins);
+  std::vector<double> right_areas(num_bins);
+
+  // Top-down with an explicit stack of triangle ranges. The left child is pushed last so it is
+  // created right after its parent (preorder); a right child tells its parent where it landed.
+  struct Range {
+    int begin;
+    int end;
+    int parent_of_right;  // the parent whose right child this range becomes, or -1
+  };
+  std::vector<Range> ranges{{0, num_triangles, -1}};
+  while (!ranges.empty()) {
+    const Range range = ranges.back();
+    ranges.pop_back();
+    const int index = static_cast<int>(nodes_.size());
+    nodes_.emplace_back();
+    if (range.parent_of_right >= 0) nodes_[range.parent_of_right].right = index;
+    const int count = range.end - range.begin;
+    if (count <= settings_.max_leaf_size) {
+      nodes_[index].first = range.begin;
+      nodes_[index].count = count;
+      continue;
+    }
+
+    // Split along the longest axis of the centroids' bounds.
+    Aabb centroid_bounds;
+    for (int i = range.begin; i < range.end; ++i) centroid_bounds.grow(centroids[triangle_order_[i]]);
+    int axis = 0;
+    (centroid_bounds.upper - centroid_bounds.lower).maxCoeff(&axis);
+    const double low = centroid_bounds.lower[axis];
+    const double extent = centroid_bounds.upper[axis] - low;
+    int middle = range.begin + count / 2;
+    if (extent > 0.0) {
+      // Binned surface area heuristic: bin the centroids, then pick the plane between bins
+      // that minimises area(left) * count(left) + area(right) * count(right).
+      const auto bin_of = [&](int t) {
+        const int bin = static_cast<int>(num_bins * ((centroids[t][axis] - low) / extent));
+        return std::min(std::max(bin, 0), num_bins - 1);
+      };
+      std::fill(bin_boxes.begin(), bin_boxes.end(), Aabb());
+      std::fill(bin_counts.begin(), bin_counts.end(), 0);
+      for (int i = range.begin; i < range.end; ++i) {
+        const int t = triangle_order_[i];
+        const int bin = bin_of(t);
+        bin_boxes[bin].grow(triangle_boxes_[t]);
+        ++bin_counts[bin];
+      }
+      Aabb right_box;
+      for (int b = num_bins - 1; b > 0; --b) {
+        right_box.grow(bin_boxes[b]);
+        right_areas[b] = right_box.surface_area();
+      }
+      Aabb left_box;
+      int left_count = 0;
+      int best_bin = 0;
+      double best_cost = std::numeric_limits<double>::infinity();
+      for (int b = 0; b + 1 < num_bins; ++b) {
+        left_box.grow(bin_boxes[b]);
+        left_count += bin_counts[b];
+        const double cost = left_box.surface_area() * left_count + right_areas[b + 1] * (count - left_count);
+        if (cost < best_cost) {
+          best_cost = cost;
+          best_bin = b;
+        }
+      }
+      // Bin 0 and the last bin both hold a centroid, so both sides are non-empty.
+      const auto split =
+          std::partition(triangle_order_.begin() + range.begin, triangle_order_.begin() + range.end,
+                         [&](int t) { return bin_of(t) <= best_bin; });
+      middle = static_cast<int>(split - triangle_order_.begin());
+    }
+    ranges.push_back({middle, range.end, index});
+    ranges.push_back({range.begin, middle, -1});
+  }
+
+  // Escape indices, children first: a leaf is followed by the next node, an inner node's
+  // subtree ends where its right child's does.
+  for (int i = static_cast<int>(nodes_.size()) - 1; i >= 0; --i) {
+    BvhNode& node = nodes_[i];
+    node.next = node.is_leaf() ? i + 1 : nodes_[node.right].next;
+  }
+}
+
+void Bvh::refit_nodes() {
+  // Children come after their parent in preorder, so a reverse sweep sees them first.
+  double total_area = 0.0;
+  for (int i = static_cast<int>(nodes_.size()) - 1; i >= 0; --i) {
+    BvhNode& node = nodes_[i];
+    Aabb box;
+    if (node.is_leaf()) {
+      for (int k = 0; k < node.count; ++k) box.grow(triangle_boxes_[triangle_order_[node.first + k]]);
+    } else {
+      box = nodes_[i + 1].box;
+      box.grow(nodes_[node.right].box);
+    }
+    node.box = box;
+    total_area += box.surface_area();
+  }
+  const double root_area = nodes_.empty() ? 0.0 : nodes_[0].box.surface_area();
+  cost_ = root_area > 0.0 ? total_area / root_area : 1.0;
+}
+
+void find_self_pairs(const Bvh& bvh, BvhQueryBuffers& buffers, std::vector<TrianglePair>& pairs,
+                     SharedVertexPairs shared_vertex_pairs) {
+  find_pairs<true>(bvh, bvh, shared_vertex_pairs == SharedVertexPairs::keep, buffers, pairs);
+}
+
+std::vector<TrianglePair> find_self_pairs(const Bvh& bvh, SharedVertexPairs shared_vertex_pairs) {
+  BvhQueryBuffers buffers;
+  std::vector<TrianglePair> pairs;
+  find_self_pairs(bvh, buffers, pairs, shared_vertex_pairs);
+  return pairs;
+}
+
+void find_pairs_between(const Bvh& first, const Bvh& second, BvhQueryBuffers& buffers,
+                        std::vector<TrianglePair>& pairs) {
+  find_pairs<false>(first, second, false, buffers, pairs);
+}
+
+std::vector<TrianglePair> find_pairs_between(const Bvh& first, const Bvh& second) {
+  BvhQueryBuffers buffers;
+  std::vector<TrianglePair> pairs;
+  find_pairs_between(first, second, buffers, pairs);
+  return pairs;
+}
+
+void find_triangles_in_box(const Bvh& bvh, const Aabb& box, std::vector<int>& triangles) {
+  // Stackless walk of the preorder array: enter a node whose box overlaps, else skip its subtree.
+  triangles.clear();
+  const std::vector<BvhNode>& nodes = bvh.nodes();
+  const int num_nodes = static_cast<int>(nodes.size());
+  int i = 0;
+  while (i < num_nodes) {
+    const BvhNode& node = nodes[i];
+    if (!node.box.overlaps(box)) {
+      i = node.next;
+      continue;
+    }
+    if (node.is_leaf()) {
+      for (int k = 0; k < node.count; ++k) {
+        const int t = bvh.triangle_order()[node.first + k];
+        if (bvh.triangle_boxes()[t].overlaps(box)) triangles.push_back(t);
+      }
+    }
+    ++i;
+  }
+  std::sort(triangles.begin(), triangles.end());
+}
+
+}  // namespace weft

@@ -1,0 +1,158 @@
+#pragma once
+// Bounding-volume hierarchy of axis-aligned boxes over the triangles of one mesh: the broad
+// phase of collision detection. Each triangle's box is swept over the step (the union of its
+// boxes at x_start and x_end) and inflated by a margin (the cloth thickness), so one query per
+// step finds every pair that could come into proximity or collide during the step.
+//
+// Nodes live in one flat array in depth-first preorder: a node's left child is the next node,
+// its right child is stored, and `next` is the first node after its subtree, so a box query
+// walks the array without a stack. The tree is built top-down once (binned SAH), refitted
+// every step, and rebuilt when `needs_rebuild()` says refitting has made it too loose.
+//
+// Pair queries run in parallel with OpenMP (the caller sets the thread count) and return a
+// sorted, duplicate-free list, identical for any number of threads.
+#include <limits>
+#include <vector>
+
+#include "core/math.hpp"
+
+namespace weft {
+
+// Closed axis-aligned box: boxes that only touch overlap. Default-constructed it is empty.
+struct Aabb {
+  Vec3 lower = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 upper = Vec3::Constant(-std::numeric_limits<double>::infinity());
+
+  void grow(const Vec3& point) {
+    lower = lower.cwiseMin(point);
+    upper = upper.cwiseMax(point);
+  }
+  void grow(const Aabb& box) {
+    lower = lower.cwiseMin(box.lower);
+    upper = upper.cwiseMax(box.upper);
+  }
+  bool overlaps(const Aabb& other) const {
+    return lower.x() <= other.upper.x() && other.lower.x() <= upper.x() && lower.y() <= other.upper.y() &&
+           other.lower.y() <= upper.y() && lower.z() <= other.upper.z() && other.lower.z() <= upper.z();
+  }
+  bool empty() const { return !(lower.array() <= upper.array()).all(); }
+  // Surface area of the box; 0 when empty.
+  double surface_area() const;
+};
+
+// One node of the flat hierarchy (64 bytes).
+struct BvhNode {
+  Aabb box;        // encloses the swept, inflated boxes of every triangle below
+  int first = 0;   // leaf: first slot of its triangles in Bvh::triangle_order(); inner: unused
+  int count = 0;   // leaf: number of triangles (>= 1); inner: 0
+  int right = -1;  // inner: index of the right child (the left child is this index + 1); leaf: -1
+  int next = 0;    // index of the first node after this subtree (nodes.size() at the end)
+
+  bool is_leaf() const { return count > 0; }
+};
+
+struct BvhSettings {
+  int max_leaf_size = 4;       // a node with at most this many triangles becomes a leaf
+  int sah_bins = 16;           // candidate split planes per node for the surface area heuristic
+  double rebuild_ratio = 2.0;  // needs_rebuild() once cost() exceeds this times cost_at_build()
+};
+
+class Bvh {
+ public:
+  // Builds the hierarchy over `triangles` (3 x n_triangles, indices into the positions) with
+  // each triangle's box swept from x_start to x_end and inflated by `margin` on every side.
+  // Copies the triangles. Throws std::invalid_argument on mismatched sizes, an index out of
+  // range or a negative margin.
+  void build(const Positions& x_start, const Positions& x_end, const Triangles& triangles, double margin,
+             const BvhSettings& settings = {});
+  // Static positions: boxes around x only.
+  void build(const Positions& x, const Triangles& triangles, double margin,
+             const BvhSettings& settings = {}) {
+    build(x, x, triangles, margin, settings);
+  }
+
+  // Recomputes every box bottom-up for new positions, keeping the tree; allocates nothing.
+  // Throws std::invalid_argument if the vertex count differs from the one at build.
+  void refit(const Positions& x_start, const Positions& x_end, double margin);
+  void refit(const Positions& x, double margin) { refit(x, x, margin); }
+
+  // Tree quality: the sum of the surface areas of all nodes over the root's, roughly the
+  // expected number of nodes a small query box visits. cost() is the value now, cost_at_build()
+  // just after the last build; their ratio grows as refits loosen the tree.
+  double cost() const { return cost_; }
+  double cost_at_build() const { return cost_at_build_; }
+  double degradation() const { return cost_at_build_ > 0.0 ? cost_ / cost_at_build_ : 1.0; }
+  bool needs_rebuild() const { return degradation() > settings_.rebuild_ratio; }
+
+  int num_triangles() const { return static_cast<int>(triangles_.cols()); }
+  int num_vertices() const { return num_vertices_; }
+  const Triangles& triangles() const { return triangles_; }
+  const std::vector<BvhNode>& nodes() const { return nodes_; }
+  // Triangle indices in leaf order: leaf n holds triangle_order()[first, first + count).
+  const std::vector<int>& triangle_order() const { return triangle_order_; }
+  // Swept, inflated box of each triangle (n_triangles), from the last build or refit.
+  const std::vector<Aabb>& triangle_boxes() const { return triangle_boxes_; }
+  const BvhSettings& settings() const { return settings_; }
+
+ private:
+  void compute_triangle_boxes(const Positions& x_start, const Positions& x_end, double margin);
+  void build_nodes();
+  void refit_nodes();
+
+  BvhSettings settings_;
+  Triangles triangles_;  // copy of the mesh's triangles (3 x n_triangles)
+  int num_vertices_ = 0;
+  std::vector<Aabb> triangle_boxes_;  // (n_triangles)
+  std::vector<int> triangle_order_;   // (n_triangles)
+  std::vector<BvhNode> nodes_;        // depth-first preorder; empty when there are no triangles
+  double cost_ = 0.0;
+  double cost_at_build_ = 0.0;
+};
+
+// A pair of triangles whose boxes overlap: `a` from the first hierarchy, `b` from the second;
+// in a self query both come from the same mesh and a < b.
+struct TrianglePair {
+  int a;
+  int b;
+
+  bool operator==(const TrianglePair& other) const { return a == other.a && b == other.b; }
+  bool operator!=(const TrianglePair& other) const { return !(*this == other); }
+  bool operator<(const TrianglePair& other) const { return a != other.a ? a < other.a : b < other.b; }
+};
+
+// Scratch space of the pair queries, kept by the caller between steps so that steady-state
+// queries do not allocate: the node-pair tasks handed to threads, each thread's traversal stack
+// and found pairs, and the buckets of the final sort.
+struct BvhQueryBuffers {
+  std::vector<TrianglePair> tasks;                       // node pairs (a == b: "within node a")
+  std::vector<TrianglePair> next_tasks;                  // scratch while splitting tasks
+  std::vector<std::vector<TrianglePair>> thread_stacks;  // node pairs still to visit, per thread
+  std::vector<std::vector<TrianglePair>> thread_pairs;   // triangle pairs found, per thread
+  std::vector<int> bucket_ends;                          // counting sort by first triangle
+};
+
+// Whether a self query reports pairs of triangles that share a vertex. Skipping them (the
+// default) drops every neighbour pair, but it also drops the vertex-face and edge-edge pairs
+// within two rings of each other that only neighbouring triangles carry, e.g. the far vertex of
+// a hinge folding flat onto the other triangle. `keep` reports them (about 6 more pairs per
+// triangle on a grid); add_self_candidates() then skips only primitives that share a vertex.
+enum class SharedVertexPairs { skip, keep };
+
+// Pairs of triangles of one mesh whose boxes overlap; each pair once with a < b, sorted.
+// Replaces the contents of `pairs`.
+void find_self_pairs(const Bvh& bvh, BvhQueryBuffers& buffers, std::vector<TrianglePair>& pairs,
+                     SharedVertexPairs shared_vertex_pairs = SharedVertexPairs::skip);
+std::vector<TrianglePair> find_self_pairs(const Bvh& bvh,
+                                          SharedVertexPairs shared_vertex_pairs = SharedVertexPairs::skip);
+
+// Pairs (triangle of `first`, triangle of `second`) whose boxes overlap, for two different
+// meshes (cloth-cloth, cloth-obstacle); sorted. Replaces the contents of `pairs`.
+void find_pairs_between(const Bvh& first, const Bvh& second, BvhQueryBuffers& buffers,
+                        std::vector<TrianglePair>& pairs);
+std::vector<TrianglePair> find_pairs_between(const Bvh& first, const Bvh& second);
+
+// Triangles whose boxes overlap `box` (picking, analytic colliders), sorted. Single-threaded,
+// no stack: replaces the contents of `triangles` and allocates only if it must grow.
+void find_triangles_in_box(const Bvh& bvh, const Aabb& box, std::vector<int>& triangles);
+
+}  // namespace weft

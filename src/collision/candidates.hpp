@@ -1,0 +1,86 @@
+#pragma once
+// Primitive candidates of the narrow phase, derived from the broad phase's triangle pairs:
+// vertex-face pairs (a vertex of one triangle against the other triangle) and edge-edge pairs
+// (an edge of one against an edge of the other). Proximity and continuous tests then run on
+// these, each primitive pair once however many triangle pairs produced it.
+//
+// Index spaces. A world numbers the vertices, triangles and edges of all its meshes (cloths and
+// obstacle meshes) in one combined space each: mesh m's element i is offsets_m + i, with each
+// mesh's offsets the running totals of the meshes before it (see next_offsets()). Candidates
+// are written in these combined indices, so pairs within a cloth, between two cloths and
+// between a cloth and an obstacle all land in one sorted list. Local edge indices are those of
+// the mesh's MeshTopology (core/topology.hpp).
+#include <vector>
+
+#include "collision/bvh.hpp"
+#include "core/topology.hpp"
+
+namespace weft {
+
+struct VertexFacePair {
+  int vertex;    // combined vertex index
+  int triangle;  // combined triangle index; the vertex is not one of its corners
+
+  bool operator==(const VertexFacePair& other) const {
+    return vertex == other.vertex && triangle == other.triangle;
+  }
+  bool operator<(const VertexFacePair& other) const {
+    return vertex != other.vertex ? vertex < other.vertex : triangle < other.triangle;
+  }
+};
+
+struct EdgeEdgePair {
+  int edge_a;  // combined edge indices, edge_a < edge_b; the edges share no vertex
+  int edge_b;
+
+  bool operator==(const EdgeEdgePair& other) const {
+    return edge_a == other.edge_a && edge_b == other.edge_b;
+  }
+  bool operator<(const EdgeEdgePair& other) const {
+    return edge_a != other.edge_a ? edge_a < other.edge_a : edge_b < other.edge_b;
+  }
+};
+
+// Where one mesh's vertices, triangles and edges start in the world's combined index spaces.
+struct MeshIndexOffsets {
+  int vertex = 0;
+  int triangle = 0;
+  int edge = 0;
+};
+
+// The offsets of the mesh after one at `offsets` with these element counts.
+MeshIndexOffsets next_offsets(const MeshIndexOffsets& offsets, int num_vertices, int num_triangles,
+                              int num_edges);
+
+// A mesh as the candidate stage reads it: its triangles, its topology (for edge indices) and
+// where it sits in the combined index spaces. Refers to data the caller keeps alive.
+struct CandidateMesh {
+  const Triangles& triangles;    // (3 x n_triangles), local vertex indices
+  const MeshTopology& topology;  // built from `triangles`
+  MeshIndexOffsets offsets;
+};
+
+// Vertex-face and edge-edge pairs of a step, sorted and free of duplicates.
+struct CollisionCandidates {
+  std::vector<VertexFacePair> vertex_face;
+  std::vector<EdgeEdgePair> edge_edge;
+
+  void clear() {
+    vertex_face.clear();
+    edge_edge.clear();
+  }
+};
+
+// Adds the candidates of triangle pairs within one mesh (from find_self_pairs) to `candidates`,
+// which stays sorted and duplicate-free: for each pair, every vertex of one triangle that is not
+// a corner of the other against that other, and every edge of one against every edge of the
+// other that shares no vertex with it. Allocates only when `candidates` must grow.
+void add_self_candidates(const std::vector<TrianglePair>& pairs, const CandidateMesh& mesh,
+                         CollisionCandidates& candidates);
+
+// The same for triangle pairs between two different meshes (from find_pairs_between, a in
+// `first`, b in `second`), where no vertex is shared.
+void add_candidates_between(const std::vector<TrianglePair>& pairs, const CandidateMesh& first,
+                            const CandidateMesh& second, CollisionCandidates& candidates);
+
+}  // namespace weft

@@ -1,0 +1,129 @@
+#include "collision/ccd_response.hpp"
+
+#include <algorithm>
+
+#include "collision/edge_edge_ccd.hpp"
+#include "collision/vertex_face_ccd.hpp"
+
+namespace weft {
+
+namespace {
+
+ContactRecord record_of(const CollisionStep& step, const CcdCollision& collision, double impulse,
+                        const ResponseSettings& settings) {
+  // The contact point: the weighted positive side of the stencil at the time of contact.
+  Vec3 position = Vec3::Zero();
+  for (int k = 0; k < 4; ++k) {
+    if (collision.stencil.weights[k] > 0.0) {
+      const int v = collision.stencil.vertices[k];
+      position += collision.stencil.weights[k] *
+                  ((1.0 - collision.time) * step.x_start.col(v) + collision.time * step.x_end.col(v));
+    }
+  }
+  return {position, collision.kind,        settings.thickness - collision.distance,
+          impulse,  collision.primitive_a, collision.primitive_b};
+}
+
+}  // namespace
+
+std::optional<CcdCollision> detect_collision(const CollisionStep& step, const VertexFacePair& pair,
+                                             const ResponseSettings& settings) {
+  if (shares_vertex(step, pair)) return std::nullopt;
+  const auto corners = step.triangles.col(pair.triangle);
+  const Positions& x0 = step.x_start;
+  const Positions& x1 = step.x_end;
+  const std::optional<VertexFaceImpact> impact = vertex_face_ccd(
+      x0.col(pair.vertex), x0.col(corners[0]), x0.col(corners[1]), x0.col(corners[2]), x1.col(pair.vertex),
+      x1.col(corners[0]), x1.col(corners[1]), x1.col(corners[2]), settings.ccd_tolerance);
+  if (!impact) return std::nullopt;
+  return CcdCollision{
+      ContactKind::vertex_face,
+      pair.vertex,
+      pair.triangle,
+      impact->time,
+      impact->distance,
+      vertex_face_stencil(step, pair.vertex, pair.triangle, impact->barycentric, impact->normal)};
+}
+
+std::optional<CcdCollision> detect_collision(const CollisionStep& step, const EdgeEdgePair& pair,
+                                             const ResponseSettings& settings) {
+  if (shares_vertex(step, pair)) return std::nullopt;
+  const auto a = step.edges.col(pair.edge_a);
+  const auto b = step.edges.col(pair.edge_b);
+  const Positions& x0 = step.x_start;
+  const Positions& x1 = step.x_end;
+  const std::optional<EdgeEdgeImpact> impact =
+      edge_edge_ccd(x0.col(a[0]), x0.col(a[1]), x0.col(b[0]), x0.col(b[1]), x1.col(a[0]), x1.col(a[1]),
+                    x1.col(b[0]), x1.col(b[1]), settings.ccd_tolerance);
+  if (!impact) return std::nullopt;
+  return CcdCollision{
+      ContactKind::edge_edge,
+      pair.edge_a,
+      pair.edge_b,
+      impact->time,
+      impact->distance,
+      edge_edge_stencil(step, pair.edge_a, pair.edge_b, impact->s, impact->t, impact->normal)};
+}
+
+void detect_collisions(const CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
+                       const std::vector<EdgeEdgePair>& edge_edges, const ResponseSettings& settings,
+                       std::vector<CcdCollision>& collisions) {
+  collisions.clear();
+  for (const VertexFacePair& pair : vertex_faces) {
+    if (const auto collision = detect_collision(step, pair, settings)) collisions.push_back(*collision);
+  }
+  for (const EdgeEdgePair& pair : edge_edges) {
+    if (const auto collision = detect_collision(step, pair, settings)) collisions.push_back(*collision);
+  }
+}
+
+double apply_ccd_impulse(CollisionStep& step, const CcdCollision& collision,
+                         const ResponseSettings& settings) {
+  const ContactStencil& stencil = collision.stencil;
+  const double inverse_mass = inverse_effective_mass(step, stencil);
+  if (!(inverse_mass > 0.0)) return 0.0;
+
+  // Target relative normal speed: no approach, and enough separation to restore a gap of
+  // ccd_separation * thickness by the end of the step when the pair started closer than that.
+  const double h = step.time_step;
+  const double start_gap = std::max(relative_start_position(step, stencil).dot(stencil.normal), 0.0);
+  const double gap = settings.ccd_separation * settings.thickness;
+  const double target_speed = std::max(0.0, (gap - start_gap) / h);
+  const double normal_speed = relative_velocity(step, stencil).dot(stencil.normal);
+  if (normal_speed >= target_speed) return 0.0;
+
+  // Inelastic impulse along the normal (BFA 2002 section 7.3, mass-weighted as in 7.1).
+  const double impulse = (target_speed - normal_speed) / inverse_mass;
+  apply_impulse(step, stencil, impulse * stencil.normal);
+  return impulse;
+}
+
+CcdResponseResult apply_ccd_response(CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
+                                     const std::vector<EdgeEdgePair>& edge_edges,
+                                     const ResponseSettings& settings, std::vector<ContactRecord>* records) {
+  CcdResponseResult result;
+  // Gauss-Seidel over the pairs: each impulse changes x_end before the next pair is tested.
+  const auto handle = [&](const std::optional<CcdCollision>& collision, int& found) {
+    if (!collision) return;
+    ++found;
+    ContactRecord record = record_of(step, *collision, 0.0, settings);  // before the motion changes
+    record.impulse = apply_ccd_impulse(step, *collision, settings);
+    if (record.impulse > 0.0) {
+      ++result.impulses;
+      if (records) records->push_back(record);
+    }
+  };
+  for (result.passes = 0; result.passes < settings.max_ccd_passes;) {
+    int found = 0;
+    ++result.passes;
+    for (const VertexFacePair& pair : vertex_faces) handle(detect_collision(step, pair, settings), found);
+    for (const EdgeEdgePair& pair : edge_edges) handle(detect_collision(step, pair, settings), found);
+    if (found == 0) {
+      result.clean = true;
+      break;
+    }
+  }
+  return result;
+}
+
+}  // namespace weft

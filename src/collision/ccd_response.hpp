@@ -1,0 +1,54 @@
+#pragma once
+// Continuous collision response (BFA 2002 section 7.3): every candidate pair is tested over the
+// motion x_start -> x_end; a pair that collides gets an inelastic impulse that stops its approach
+// along the collision normal (restoring a small gap if the pair started closer than it), applied
+// at once so later pairs see the corrected motion. Passes repeat until one finds no collision or
+// the pass limit is reached; what remains is left to impact zones.
+#include <optional>
+#include <vector>
+
+#include "collision/collision_step.hpp"
+#include "collision/contact_impulse.hpp"
+#include "collision/contact_pairs.hpp"
+#include "collision/contact_record.hpp"
+
+namespace weft {
+
+struct CcdCollision {
+  ContactKind kind;
+  int primitive_a;         // vertex or edge_a
+  int primitive_b;         // triangle or edge_b
+  double time;             // fraction of the step
+  double distance;         // at `time`
+  ContactStencil stencil;  // weights at `time`, normal from primitive b towards primitive a
+};
+
+// Continuous test of one pair over the step's current motion; pairs that share a vertex never
+// collide.
+std::optional<CcdCollision> detect_collision(const CollisionStep& step, const VertexFacePair& pair,
+                                             const ResponseSettings& settings);
+std::optional<CcdCollision> detect_collision(const CollisionStep& step, const EdgeEdgePair& pair,
+                                             const ResponseSettings& settings);
+
+// Clears `collisions` and fills it with every colliding pair of the current motion.
+void detect_collisions(const CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
+                       const std::vector<EdgeEdgePair>& edge_edges, const ResponseSettings& settings,
+                       std::vector<CcdCollision>& collisions);
+
+// Inelastic impulse on one collision (a no-op where the pair already separates fast enough or all
+// its vertices have infinite mass); returns the impulse magnitude.
+double apply_ccd_impulse(CollisionStep& step, const CcdCollision& collision,
+                         const ResponseSettings& settings);
+
+struct CcdResponseResult {
+  int passes = 0;      // detection passes run
+  int impulses = 0;    // collisions acted on, over all passes
+  bool clean = false;  // the last pass found no collision
+};
+
+// Up to settings.max_ccd_passes passes of detection and impulses; appends a record per impulse.
+CcdResponseResult apply_ccd_response(CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
+                                     const std::vector<EdgeEdgePair>& edge_edges,
+                                     const ResponseSettings& settings, std::vector<ContactRecord>* records);
+
+}  // namespace weft

@@ -1,0 +1,43 @@
+#pragma once
+// Rigid impact zones (BFA 2002 section 7.4), the fail-safe after the CCD impulses: the vertices
+// of every pair still colliding are merged into zones (zones only grow during a step), and each
+// zone's motion over the step is replaced by one rigid body motion that keeps its linear and
+// angular momentum, with the inertia tensor of its vertex masses. A zone holding a vertex of
+// infinite mass follows the rigid motion fitted to its infinite-mass vertices instead (a pinned
+// vertex at rest makes the zone immovable). Detection repeats until the motion is clean.
+#include <vector>
+
+#include "collision/ccd_response.hpp"
+#include "collision/collision_step.hpp"
+#include "collision/contact_pairs.hpp"
+
+namespace weft {
+
+// Scratch reused from step to step so that the zone passes do not allocate once warmed up.
+struct ImpactZoneWorkspace {
+  std::vector<int> parent;    // union-find forest over vertices (n_vertices)
+  std::vector<int> members;   // vertices in zones of two or more, grouped by zone
+  std::vector<char> in_zone;  // whether a vertex is listed in `members` (n_vertices)
+  std::vector<CcdCollision> collisions;
+};
+
+struct ImpactZoneResult {
+  int passes = 0;         // detection passes run
+  int zones = 0;          // zones of two or more vertices at the end
+  int zone_vertices = 0;  // vertices in those zones
+  bool clean = false;     // the final motion has no collision
+  bool stopped = false;   // the pass limit was reached and free vertices were stopped (x_end = x_start)
+};
+
+// Rigid motion of the given vertices over the step, fitted to their current motion (see above),
+// written to x_end and velocity of the vertices with finite mass.
+void apply_rigid_motion(CollisionStep& step, const int* vertices, int count);
+
+// Detects and merges zones up to settings.max_impact_zone_passes times. If collisions remain, the
+// vertices in zones, and then if needed every vertex of finite mass, stop for the step: starting
+// from a state without intersection this ends without one unless infinite-mass vertices collide.
+ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
+                                      const std::vector<EdgeEdgePair>& edge_edges,
+                                      const ResponseSettings& settings, ImpactZoneWorkspace& workspace);
+
+}  // namespace weft

@@ -1,0 +1,408 @@
+#include "core/intersection_check.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+
+namespace weft {
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Exact arithmetic on floating-point expansions: a value is held as a sum of doubles, which no
+// rounding ever touches, and the sign of the sum is the sign of its largest term.
+
+// a + b == sum + error exactly (Knuth's branch-free two-sum; no ordering of |a|, |b| needed).
+void two_sum(double a, double b, double& sum, double& error) {
+  sum = a + b;
+  const double b_virtual = sum - a;
+  const double a_virtual = sum - b_virtual;
+  error = (a - a_virtual) + (b - b_virtual);
+}
+
+// a * b == product + error exactly: fma rounds a * b - product once, and that value is exact.
+void two_product(double a, double b, double& product, double& error) {
+  product = a * b;
+  error = std::fma(a, b, -product);
+}
+
+// A sum of doubles kept nonoverlapping, in increasing magnitude, without zeros, so the last
+// term carries the sign. Capacity for the 24 triple products (4 doubles each) of orient3d.
+class Expansion {
+ public:
+  // Adds b exactly: the running sum absorbs each term from the smallest up, the rounding
+  // errors stay behind as the new smaller terms.
+  void add(double b) {
+    double carry = b;
+    int kept = 0;
+    for (int i = 0; i < size_; ++i) {
+      double sum, error;
+      two_sum(carry, terms_[i], sum, error);
+      if (error != 0.0) terms_[kept++] = error;
+      carry = sum;
+    }
+    if (carry != 0.0) terms_[kept++] = carry;
+    size_ = kept;
+  }
+
+  // Adds sign * x * y * z exactly, as the four doubles of (x * y) * z.
+  void add_product(int sign, double x, double y, double z) {
+    double xy, xy_error;
+    two_product(x, y, xy, xy_error);
+    double high, high_error, low, low_error;
+    two_product(xy, z, high, high_error);
+    two_product(xy_error, z, low, low_error);
+    add(sign * high);
+    add(sign * high_error);
+    add(sign * low);
+    add(sign * low_error);
+  }
+
+  int sign() const { return size_ == 0 ? 0 : (terms_[size_ - 1] > 0.0 ? 1 : -1); }
+
+ private:
+  std::array<double, 100> terms_{};
+  int size_ = 0;
+};
+
+int sign_of(double value) { return (value > 0.0) - (value < 0.0); }
+
+// Sign of the permutation (-1)^inversions.
+template <std::size_t n>
+int permutation_sign(const std::array<int, n>& permutation) {
+  int inversions = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i + 1; j < n; ++j) inversions += permutation[i] > permutation[j];
+  }
+  return inversions % 2 == 0 ? 1 : -1;
+}
+
+// Exact orient3d: det[a - d; b - d; c - d] equals the 4 x 4 determinant with rows (p, 1) for
+// p = a, b, c, d. Its Leibniz expansion has 24 terms, each a product of three coordinates (the
+// column of ones contributes 1), summed exactly; no difference of inputs is ever rounded.
+int orient3d_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  const std::array<const Vec3*, 4> rows = {&a, &b, &c, &d};
+  std::array<int, 4> column_of_row = {0, 1, 2, 3};
+  Expansion determinant;
+  do {
+    double factors[3];
+    int count = 0;
+    for (int row = 0; row < 4; ++row) {
+      if (column_of_row[row] < 3) factors[count++] = (*rows[row])[column_of_row[row]];
+    }
+    determinant.add_product(permutation_sign(column_of_row), factors[0], factors[1], factors[2]);
+  } while (std::next_permutation(column_of_row.begin(), column_of_row.end()));
+  return determinant.sign();
+}
+
+// Exact orient2d the same way: the 3 x 3 determinant with rows (p, 1), 6 products of two.
+int orient2d_exact(const Vec2& a, const Vec2& b, const Vec2& c) {
+  const std::array<const Vec2*, 3> rows = {&a, &b, &c};
+  std::array<int, 3> column_of_row = {0, 1, 2};
+  Expansion determinant;
+  do {
+    double factors[2];
+    int count = 0;
+    for (int row = 0; row < 3; ++row) {
+      if (column_of_row[row] < 2) factors[count++] = (*rows[row])[column_of_row[row]];
+    }
+    determinant.add_product(permutation_sign(column_of_row), factors[0], factors[1], 1.0);
+  } while (std::next_permutation(column_of_row.begin(), column_of_row.end()));
+  return determinant.sign();
+}
+
+// Forward error filter: the floating-point determinant is off by at most a few units in the
+// last place of its permanent (the same sum with absolute values); 1e-14 is about 90 of them,
+// far more than the ~8 roundings on any path. Below 1e-250 products may underflow, so the
+// bound is not trusted there.
+constexpr double relative_error_bound = 1e-14;
+constexpr double smallest_trusted_permanent = 1e-250;
+
+// ---------------------------------------------------------------------------------------------
+// Closed segments and triangles, decided by orientation signs only.
+
+// The two coordinates left when axis `drop` is dropped, in cyclic order.
+Vec2 project(const Vec3& p, int drop) { return Vec2(p[(drop + 1) % 3], p[(drop + 2) % 3]); }
+
+// An axis whose projection keeps a, b, c non-collinear, or -1 when a, b, c are collinear.
+int non_degenerate_drop_axis(const Vec3& a, const Vec3& b, const Vec3& c) {
+  for (int axis = 0; axis < 3; ++axis) {
+    if (orient2d(project(a, axis), project(b, axis), project(c, axis)) != 0) return axis;
+  }
+  return -1;
+}
+
+// For four coplanar points: an axis along which projecting is one-to-one on the plane they
+// span, or on their line when they are collinear, so 2D predicates decide 3D questions.
+int coplanar_drop_axis(const std::array<Vec3, 4>& points) {
+  for (int i = 0; i < 4; ++i) {
+    const int axis = non_degenerate_drop_axis(points[(i + 1) % 4], points[(i + 2) % 4], points[(i + 3) % 4]);
+    if (axis >= 0) return axis;
+  }
+  // Collinear: keep a coordinate in which two distinct points differ.
+  for (int i = 1; i < 4; ++i) {
+    for (int m = 0; m < 3; ++m) {
+      if (points[i][m] != points[0][m]) return (m + 1) % 3;
+    }
+  }
+  return 0;
+}
+
+// Closed 2D segments [a, b] and [c, d] share a point; any of them may be a single point.
+bool segments_intersect_2d(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  const int abc = orient2d(a, b, c), abd = orient2d(a, b, d);
+  const int cda = orient2d(c, d, a), cdb = orient2d(c, d, b);
+  if (abc == 0 && abd == 0 && cda == 0 && cdb == 0) {
+    // All on one line (or points): the segments meet iff their extents overlap on both axes.
+    for (int axis = 0; axis < 2; ++axis) {
+      if (std::max(a[axis], b[axis]) < std::min(c[axis], d[axis]) ||
+          std::max(c[axis], d[axis]) < std::min(a[axis], b[axis])) {
+        return false;
+      }
+    }
+    return true;
+  }
+  return abc * abd <= 0 && cda * cdb <= 0;
+}
+
+// Point x lies in the closed 2D triangle (p, q, r), which is not degenerate.
+bool point_in_triangle_2d(const Vec2& x, const Vec2& p, const Vec2& q, const Vec2& r) {
+  const int s0 = orient2d(p, q, x), s1 = orient2d(q, r, x), s2 = orient2d(r, p, x);
+  const bool some_negative = s0 < 0 || s1 < 0 || s2 < 0;
+  const bool some_positive = s0 > 0 || s1 > 0 || s2 > 0;
+  return !(some_negative && some_positive);
+}
+
+// Closed 3D segments [a, b] and [c, d] share a point.
+bool segments_intersect_3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  if (orient3d(a, b, c, d) != 0) return false;
+  const int axis = coplanar_drop_axis({a, b, c, d});
+  return segments_intersect_2d(project(a, axis), project(b, axis), project(c, axis), project(d, axis));
+}
+
+// Closed segment [a, b] and closed triangle (p, q, r) share a point.
+bool segment_intersects_triangle(const Vec3& a, const Vec3& b, const Vec3& p, const Vec3& q, const Vec3& r) {
+  // A degenerate triangle is the union of its sides.
+  const int axis = non_degenerate_drop_axis(p, q, r);
+  if (axis < 0) {
+    return segments_intersect_3d(a, b, p, q) || segments_intersect_3d(a, b, q, r) ||
+           segments_intersect_3d(a, b, r, p);
+  }
+  const int side_a = orient3d(p, q, r, a);
+  const int side_b = orient3d(p, q, r, b);
+  if (side_a * side_b > 0) return false;
+
+  // In the triangle's plane: an end inside, or the segment crossing a side.
+  if (side_a == 0 && side_b == 0) {
+    const Vec2 a2 = project(a, axis), b2 = project(b, axis);
+    const Vec2 p2 = project(p, axis), q2 = project(q, axis), r2 = project(r, axis);
+    return point_in_triangle_2d(a2, p2, q2, r2) || point_in_triangle_2d(b2, p2, q2, r2) ||
+           segments_intersect_2d(a2, b2, p2, q2) || segments_intersect_2d(a2, b2, q2, r2) ||
+           segments_intersect_2d(a2, b2, r2, p2);
+  }
+
+  // Crossing the plane at one point X: the sign of orient3d(a, b, p, q) is the side of line pq
+  // that X is on (times one sign common to the three sides), so X is in the closed triangle
+  // iff no two of the three signs are opposite.
+  const int s0 = orient3d(a, b, p, q), s1 = orient3d(a, b, q, r), s2 = orient3d(a, b, r, p);
+  const bool some_negative = s0 < 0 || s1 < 0 || s2 < 0;
+  const bool some_positive = s0 > 0 || s1 > 0 || s2 > 0;
+  return !(some_negative && some_positive);
+}
+
+// All three of q0, q1, q2 strictly on one side of the plane of (p0, p1, p2). Never true for a
+// degenerate (p0, p1, p2), whose orientations are all 0.
+bool strictly_one_side(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& q0, const Vec3& q1,
+                       const Vec3& q2) {
+  const int s0 = orient3d(p0, p1, p2, q0);
+  if (s0 == 0) return false;
+  return orient3d(p0, p1, p2, q1) == s0 && orient3d(p0, p1, p2, q2) == s0;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Meshes.
+
+struct BoundedTriangle {
+  Vec3 lower;
+  Vec3 upper;
+  int mesh;
+  int triangle;
+};
+
+void check_meshes(const std::vector<CheckedMesh>& meshes) {
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    const std::string name = "find_triangle_intersections: mesh " + std::to_string(m);
+    if (meshes[m].positions == nullptr || meshes[m].triangles == nullptr) {
+      throw std::invalid_argument(name + " has no positions or no triangles");
+    }
+    if (!meshes[m].positions->allFinite())
+      throw std::invalid_argument(name + " has a coordinate that is not finite");
+    const Triangles& triangles = *meshes[m].triangles;
+    const int num_vertices = static_cast<int>(meshes[m].positions->cols());
+    if ((triangles.array() < 0).any() || (triangles.array() >= num_vertices).any()) {
+      throw std::invalid_argument(name + " has a vertex index outside [0, " + std::to_string(num_vertices) +
+                                  ")");
+    }
+  }
+}
+
+Vec3 corner(const CheckedMesh& mesh, int triangle, int k) {
+  return mesh.positions->col((*mesh.triangles)(k, triangle));
+}
+
+// Whether the pair is checked at all: triangles of one mesh sharing a vertex are neighbours,
+// whose contact along the shared part is the mesh itself.
+bool adjacent(const std::vector<CheckedMesh>& meshes, int mesh_a, int triangle_a, int mesh_b,
+              int triangle_b) {
+  if (mesh_a != mesh_b) return false;
+  const Triangles& triangles = *meshes[mesh_a].triangles;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (triangles(i, triangle_a) == triangles(j, triangle_b)) return true;
+    }
+  }
+  return false;
+}
+
+bool mesh_triangles_intersect(const std::vector<CheckedMesh>& meshes, int mesh_a, int triangle_a, int mesh_b,
+                              int triangle_b) {
+  const CheckedMesh& a = meshes[mesh_a];
+  const CheckedMesh& b = meshes[mesh_b];
+  return triangles_intersect(corner(a, triangle_a, 0), corner(a, triangle_a, 1), corner(a, triangle_a, 2),
+                             corner(b, triangle_b, 0), corner(b, triangle_b, 1), corner(b, triangle_b, 2));
+}
+
+TriangleIntersection ordered(int mesh_a, int triangle_a, int mesh_b, int triangle_b) {
+  if (std::tie(mesh_b, triangle_b) < std::tie(mesh_a, triangle_a)) {
+    std::swap(mesh_a, mesh_b);
+    std::swap(triangle_a, triangle_b);
+  }
+  return {mesh_a, triangle_a, mesh_b, triangle_b};
+}
+
+}  // namespace
+
+int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  // Floating-point determinant by rows a - d, b - d, c - d, and its permanent for the bound.
+  const double adx = a.x() - d.x(), ady = a.y() - d.y(), adz = a.z() - d.z();
+  const double bdx = b.x() - d.x(), bdy = b.y() - d.y(), bdz = b.z() - d.z();
+  const double cdx = c.x() - d.x(), cdy = c.y() - d.y(), cdz = c.z() - d.z();
+  const double bdx_cdy = bdx * cdy, cdx_bdy = cdx * bdy;
+  const double cdx_ady = cdx * ady, adx_cdy = adx * cdy;
+  const double adx_bdy = adx * bdy, bdx_ady = bdx * ady;
+  const double determinant =
+      adz * (bdx_cdy - cdx_bdy) + bdz * (cdx_ady - adx_cdy) + cdz * (adx_bdy - bdx_ady);
+  const double permanent = (std::abs(bdx_cdy) + std::abs(cdx_bdy)) * std::abs(adz) +
+                           (std::abs(cdx_ady) + std::abs(adx_cdy)) * std::abs(bdz) +
+                           (std::abs(adx_bdy) + std::abs(bdx_ady)) * std::abs(cdz);
+  if (permanent > smallest_trusted_permanent && std::abs(determinant) > relative_error_bound * permanent) {
+    return sign_of(determinant);
+  }
+  return orient3d_exact(a, b, c, d);
+}
+
+int orient2d(const Vec2& a, const Vec2& b, const Vec2& c) {
+  const double left = (a.x() - c.x()) * (b.y() - c.y());
+  const double right = (a.y() - c.y()) * (b.x() - c.x());
+  const double determinant = left - right;
+  const double permanent = std::abs(left) + std::abs(right);
+  if (permanent > smallest_trusted_permanent && std::abs(determinant) > relative_error_bound * permanent) {
+    return sign_of(determinant);
+  }
+  return orient2d_exact(a, b, c);
+}
+
+bool triangles_intersect(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& q0, const Vec3& q1,
+                         const Vec3& q2) {
+  // Disjoint bounding boxes (exact: min and max do not round).
+  const Vec3 p_lower = p0.cwiseMin(p1).cwiseMin(p2), p_upper = p0.cwiseMax(p1).cwiseMax(p2);
+  const Vec3 q_lower = q0.cwiseMin(q1).cwiseMin(q2), q_upper = q0.cwiseMax(q1).cwiseMax(q2);
+  if ((p_upper.array() < q_lower.array()).any() || (q_upper.array() < p_lower.array()).any()) return false;
+
+  // One triangle strictly on one side of the other's plane.
+  if (strictly_one_side(p0, p1, p2, q0, q1, q2) || strictly_one_side(q0, q1, q2, p0, p1, p2)) return false;
+
+  // Two closed triangles meet iff a side of one meets the other: the intersection is convex,
+  // and its extreme points lie on the boundary of one of the two.
+  return segment_intersects_triangle(p0, p1, q0, q1, q2) || segment_intersects_triangle(p1, p2, q0, q1, q2) ||
+         segment_intersects_triangle(p2, p0, q0, q1, q2) || segment_intersects_triangle(q0, q1, p0, p1, p2) ||
+         segment_intersects_triangle(q1, q2, p0, p1, p2) || segment_intersects_triangle(q2, q0, p0, p1, p2);
+}
+
+bool TriangleIntersection::operator<(const TriangleIntersection& other) const {
+  return std::tie(mesh_a, triangle_a, mesh_b, triangle_b) <
+         std::tie(other.mesh_a, other.triangle_a, other.mesh_b, other.triangle_b);
+}
+
+std::vector<TriangleIntersection> find_triangle_intersections(const std::vector<CheckedMesh>& meshes) {
+  check_meshes(meshes);
+
+  // Every triangle's bounding box; the sweep runs along the axis where all of them spread most.
+  std::vector<BoundedTriangle> items;
+  Vec3 lower = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 upper = -lower;
+  for (int m = 0; m < static_cast<int>(meshes.size()); ++m) {
+    for (int t = 0; t < static_cast<int>(meshes[m].triangles->cols()); ++t) {
+      const Vec3 a = corner(meshes[m], t, 0), b = corner(meshes[m], t, 1), c = corner(meshes[m], t, 2);
+      items.push_back({a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), m, t});
+      lower = lower.cwiseMin(items.back().lower);
+      upper = upper.cwiseMax(items.back().upper);
+    }
+  }
+  std::vector<TriangleIntersection> found;
+  if (items.empty()) return found;
+  int axis = 0;
+  (upper - lower).maxCoeff(&axis);
+
+  // Sort and sweep: after sorting by the low end on `axis`, the boxes that can overlap box i
+  // on that axis are the run after it that starts before box i ends.
+  std::sort(items.begin(), items.end(), [axis](const BoundedTriangle& x, const BoundedTriangle& y) {
+    return std::make_tuple(x.lower[axis], x.mesh, x.triangle) <
+           std::make_tuple(y.lower[axis], y.mesh, y.triangle);
+  });
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const BoundedTriangle& x = items[i];
+    for (std::size_t j = i + 1; j < items.size() && items[j].lower[axis] <= x.upper[axis]; ++j) {
+      const BoundedTriangle& y = items[j];
+      if ((x.upper.array() < y.lower.array()).any() || (y.upper.array() < x.lower.array()).any()) continue;
+      if (adjacent(meshes, x.mesh, x.triangle, y.mesh, y.triangle)) continue;
+      if (mesh_triangles_intersect(meshes, x.mesh, x.triangle, y.mesh, y.triangle)) {
+        found.push_back(ordered(x.mesh, x.triangle, y.mesh, y.triangle));
+      }
+    }
+  }
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+std::vector<TriangleIntersection> find_triangle_intersections(const Positions& positions,
+                                                              const Triangles& triangles) {
+  return find_triangle_intersections(std::vector<CheckedMesh>{{&positions, &triangles}});
+}
+
+std::vector<TriangleIntersection> find_triangle_intersections_brute_force(
+    const std::vector<CheckedMesh>& meshes) {
+  check_meshes(meshes);
+  std::vector<TriangleIntersection> found;
+  const int num_meshes = static_cast<int>(meshes.size());
+  for (int mesh_a = 0; mesh_a < num_meshes; ++mesh_a) {
+    for (int triangle_a = 0; triangle_a < meshes[mesh_a].triangles->cols(); ++triangle_a) {
+      for (int mesh_b = mesh_a; mesh_b < num_meshes; ++mesh_b) {
+        const int first_b = mesh_b == mesh_a ? triangle_a + 1 : 0;
+        for (int triangle_b = first_b; triangle_b < meshes[mesh_b].triangles->cols(); ++triangle_b) {
+          if (adjacent(meshes, mesh_a, triangle_a, mesh_b, triangle_b)) continue;
+          if (mesh_triangles_intersect(meshes, mesh_a, triangle_a, mesh_b, triangle_b)) {
+            found.push_back({mesh_a, triangle_a, mesh_b, triangle_b});
+          }
+        }
+      }
+    }
+  }
+  return found;
+}
+
+}  // namespace weft

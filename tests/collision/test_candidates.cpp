@@ -1,0 +1,238 @@
+// Narrow-phase candidates from triangle pairs: hand-counted small cases, and on grids the
+// vertex-face and edge-edge sets equal a reference written with std::set and edge lookup by
+// vertex pair; combined index spaces for pairs between meshes.
+#include "collision/candidates.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <random>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "core/mesh_generators.hpp"
+
+namespace weft {
+namespace {
+
+template <typename T>
+bool sorted_and_unique(const std::vector<T>& items) {
+  return std::adjacent_find(items.begin(), items.end(), [](const T& x, const T& y) { return !(x < y); }) ==
+         items.end();
+}
+
+// Reference: edges looked up by their vertex pair, candidates collected in sets.
+struct ReferenceMesh {
+  const Triangles* triangles;
+  std::map<std::pair<int, int>, int> edge_of_vertices;
+  MeshIndexOffsets offsets;
+};
+
+ReferenceMesh reference_mesh(const Triangles& triangles, const MeshTopology& topology,
+                             MeshIndexOffsets offsets) {
+  ReferenceMesh mesh{&triangles, {}, offsets};
+  for (int e = 0; e < topology.num_edges(); ++e) {
+    mesh.edge_of_vertices[{topology.edges(0, e), topology.edges(1, e)}] = e;
+  }
+  return mesh;
+}
+
+struct ReferenceCandidates {
+  std::set<std::pair<int, int>> vertex_face;
+  std::set<std::pair<int, int>> edge_edge;
+};
+
+void add_reference(const std::vector<TrianglePair>& pairs, const ReferenceMesh& first,
+                   const ReferenceMesh& second, bool same_mesh, ReferenceCandidates& out) {
+  for (const TrianglePair& pair : pairs) {
+    const Vec3i s = first.triangles->col(pair.a);
+    const Vec3i t = second.triangles->col(pair.b);
+    const auto corner_of = [](const Vec3i& tri, int v) { return tri[0] == v || tri[1] == v || tri[2] == v; };
+    for (int k = 0; k < 3; ++k) {
+      if (!same_mesh || !corner_of(t, s[k]))
+        out.vertex_face.insert({first.offsets.vertex + s[k], second.offsets.triangle + pair.b});
+      if (!same_mesh || !corner_of(s, t[k]))
+        out.vertex_face.insert({second.offsets.vertex + t[k], first.offsets.triangle + pair.a});
+    }
+    for (int i = 0; i < 3; ++i) {
+      const int s0 = std::min(s[i], s[(i + 1) % 3]), s1 = std::max(s[i], s[(i + 1) % 3]);
+      for (int j = 0; j < 3; ++j) {
+        const int t0 = std::min(t[j], t[(j + 1) % 3]), t1 = std::max(t[j], t[(j + 1) % 3]);
+        if (same_mesh && (s0 == t0 || s0 == t1 || s1 == t0 || s1 == t1)) continue;
+        const int a = first.offsets.edge + first.edge_of_vertices.at({s0, s1});
+        const int b = second.offsets.edge + second.edge_of_vertices.at({t0, t1});
+        out.edge_edge.insert({std::min(a, b), std::max(a, b)});
+      }
+    }
+  }
+}
+
+void expect_equal(const CollisionCandidates& candidates, const ReferenceCandidates& reference) {
+  EXPECT_TRUE(sorted_and_unique(candidates.vertex_face));
+  EXPECT_TRUE(sorted_and_unique(candidates.edge_edge));
+  using PairList = std::vector<std::pair<int, int>>;
+  PairList vertex_face, edge_edge;
+  for (const VertexFacePair& p : candidates.vertex_face) vertex_face.push_back({p.vertex, p.triangle});
+  for (const EdgeEdgePair& p : candidates.edge_edge) edge_edge.push_back({p.edge_a, p.edge_b});
+  EXPECT_EQ(vertex_face, PairList(reference.vertex_face.begin(), reference.vertex_face.end()));
+  EXPECT_EQ(edge_edge, PairList(reference.edge_edge.begin(), reference.edge_edge.end()));
+}
+
+TEST(Candidates, TwoSeparateTrianglesGiveSixVertexFaceAndNineEdgeEdgePairs) {
+  Triangles triangles(3, 2);
+  triangles << 0, 3, 1, 4, 2, 5;
+  const MeshTopology topology = build_topology(triangles, 6);
+  CollisionCandidates candidates;
+  add_self_candidates({{0, 1}}, {triangles, topology, {}}, candidates);
+  const std::vector<VertexFacePair> expected_vertex_face = {{0, 1}, {1, 1}, {2, 1}, {3, 0}, {4, 0}, {5, 0}};
+  EXPECT_EQ(candidates.vertex_face, expected_vertex_face);
+  ASSERT_EQ(candidates.edge_edge.size(), 9u);
+  for (const EdgeEdgePair& pair : candidates.edge_edge) {
+    // Edges sorted by vertex pair: 0-1, 0-2, 1-2 belong to triangle 0, 3-4, 3-5, 4-5 to triangle 1.
+    EXPECT_LT(pair.edge_a, 3);
+    EXPECT_GE(pair.edge_b, 3);
+  }
+}
+
+TEST(Candidates, SharedVertexIsSkipped) {
+  // (0, 1, 2) and (0, 3, 4) share vertex 0.
+  Triangles triangles(3, 2);
+  triangles << 0, 0, 1, 3, 2, 4;
+  const MeshTopology topology = build_topology(triangles, 5);
+  CollisionCandidates candidates;
+  add_self_candidates({{0, 1}}, {triangles, topology, {}}, candidates);
+  const std::vector<VertexFacePair> expected_vertex_face = {{1, 1}, {2, 1}, {3, 0}, {4, 0}};
+  EXPECT_EQ(candidates.vertex_face, expected_vertex_face);
+  // Of the 9 edge pairs, the 4 between edges through vertex 0 are dropped.
+  EXPECT_EQ(candidates.edge_edge.size(), 5u);
+  for (const EdgeEdgePair& pair : candidates.edge_edge) {
+    const int a0 = topology.edges(0, pair.edge_a), a1 = topology.edges(1, pair.edge_a);
+    const int b0 = topology.edges(0, pair.edge_b), b1 = topology.edges(1, pair.edge_b);
+    EXPECT_TRUE(a0 != b0 && a0 != b1 && a1 != b0 && a1 != b1);
+  }
+}
+
+TEST(Candidates, AHingeFoldedFlatNeedsTheNeighbourPair) {
+  // Triangles (0, 1, 2) and (1, 0, 3) share the edge 0-1; vertex 3 is folded over onto the
+  // first triangle, 1e-3 above it.
+  Positions x(3, 4);
+  x << 0.0, 1.0, 0.3, 0.3,  //
+      0.0, 0.0, 1.0, 0.5,   //
+      0.0, 0.0, 0.0, 1e-3;
+  Triangles triangles(3, 2);
+  triangles << 0, 1, 1, 0, 2, 3;
+  const MeshTopology topology = build_topology(triangles, 4);
+  Bvh bvh;
+  bvh.build(x, triangles, 0.01);
+  const VertexFacePair folded{3, 0};
+
+  CollisionCandidates skipping;
+  add_self_candidates(find_self_pairs(bvh), {triangles, topology, {}}, skipping);
+  EXPECT_TRUE(skipping.vertex_face.empty()) << "the only pair shares a vertex and is skipped";
+
+  CollisionCandidates keeping;
+  add_self_candidates(find_self_pairs(bvh, SharedVertexPairs::keep), {triangles, topology, {}}, keeping);
+  EXPECT_EQ(keeping.vertex_face, (std::vector<VertexFacePair>{{2, 1}, folded}));
+  EXPECT_TRUE(keeping.edge_edge.empty()) << "every edge of one touches the shared edge's ends";
+}
+
+TEST(Candidates, SelfCandidatesOnAGridMatchTheReference) {
+  const TriangleMesh grid = make_grid(12, 9, 1.0, 1.0, GridTriangulation::alternating);
+  const MeshTopology topology = build_topology(grid.triangles, grid.num_vertices());
+  // Every pair of distinct triangles, adjacent ones included: the candidate stage must skip
+  // shared corners itself.
+  std::vector<TrianglePair> pairs;
+  for (int s = 0; s < grid.num_triangles(); ++s) {
+    for (int t = s + 1; t < grid.num_triangles(); t += 3) pairs.push_back({s, t});
+  }
+  CollisionCandidates candidates;
+  add_self_candidates(pairs, {grid.triangles, topology, {}}, candidates);
+  ReferenceCandidates reference;
+  add_reference(pairs, reference_mesh(grid.triangles, topology, {}),
+                reference_mesh(grid.triangles, topology, {}), true, reference);
+  EXPECT_GT(reference.vertex_face.size(), 1000u);
+  expect_equal(candidates, reference);
+  for (const VertexFacePair& pair : candidates.vertex_face) {
+    const Vec3i corners = grid.triangles.col(pair.triangle);
+    EXPECT_TRUE(corners[0] != pair.vertex && corners[1] != pair.vertex && corners[2] != pair.vertex);
+  }
+
+  // Adding the same pairs again changes nothing.
+  const CollisionCandidates before = candidates;
+  add_self_candidates(pairs, {grid.triangles, topology, {}}, candidates);
+  EXPECT_EQ(candidates.vertex_face, before.vertex_face);
+  EXPECT_EQ(candidates.edge_edge, before.edge_edge);
+}
+
+TEST(Candidates, PairsFromTheBvhOfACrumpledGrid) {
+  TriangleMesh grid = make_grid(20, 20, 1.0, 1.0, GridTriangulation::regular);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> noise(-0.04, 0.04);
+  for (int v = 0; v < grid.num_vertices(); ++v) {
+    grid.positions(2, v) = 0.2 * std::sin(12.0 * grid.positions(0, v)) + noise(rng);
+    grid.positions(0, v) *= 0.5;
+  }
+  const MeshTopology topology = build_topology(grid.triangles, grid.num_vertices());
+  Bvh bvh;
+  bvh.build(grid.positions, grid.triangles, 0.01);
+  const std::vector<TrianglePair> pairs = find_self_pairs(bvh);
+  ASSERT_FALSE(pairs.empty());
+  CollisionCandidates candidates;
+  add_self_candidates(pairs, {grid.triangles, topology, {}}, candidates);
+  ReferenceCandidates reference;
+  const ReferenceMesh mesh = reference_mesh(grid.triangles, topology, {});
+  add_reference(pairs, mesh, mesh, true, reference);
+  expect_equal(candidates, reference);
+  // Pairs share no vertex, so each gives all 6 vertex-face pairs before deduplication.
+  EXPECT_LE(candidates.vertex_face.size(), 6 * pairs.size());
+  EXPECT_LT(candidates.edge_edge.size(), 9 * pairs.size()) << "edges shared by neighbours are deduplicated";
+}
+
+TEST(Candidates, BetweenMeshesUseCombinedIndices) {
+  const TriangleMesh cloth = make_grid(6, 5, 1.0, 1.0, GridTriangulation::regular);
+  TriangleMesh obstacle = make_grid(4, 4, 1.0, 1.0, GridTriangulation::cross);
+  const MeshTopology cloth_topology = build_topology(cloth.triangles, cloth.num_vertices());
+  const MeshTopology obstacle_topology = build_topology(obstacle.triangles, obstacle.num_vertices());
+  const MeshIndexOffsets cloth_offsets{};
+  const MeshIndexOffsets obstacle_offsets =
+      next_offsets(cloth_offsets, cloth.num_vertices(), cloth.num_triangles(), cloth_topology.num_edges());
+  EXPECT_EQ(obstacle_offsets.vertex, 30);
+  EXPECT_EQ(obstacle_offsets.triangle, cloth.num_triangles());
+  EXPECT_EQ(obstacle_offsets.edge, cloth_topology.num_edges());
+
+  // Both grids lie in the same plane, so every pair of triangles overlaps.
+  Bvh a, b;
+  a.build(cloth.positions, cloth.triangles, 0.0);
+  b.build(obstacle.positions, obstacle.triangles, 0.0);
+  const std::vector<TrianglePair> pairs = find_pairs_between(a, b);
+  ASSERT_FALSE(pairs.empty());
+  const CandidateMesh first{cloth.triangles, cloth_topology, cloth_offsets};
+  const CandidateMesh second{obstacle.triangles, obstacle_topology, obstacle_offsets};
+  CollisionCandidates candidates;
+  add_candidates_between(pairs, first, second, candidates);
+  ReferenceCandidates reference;
+  add_reference(pairs, reference_mesh(cloth.triangles, cloth_topology, cloth_offsets),
+                reference_mesh(obstacle.triangles, obstacle_topology, obstacle_offsets), false, reference);
+  expect_equal(candidates, reference);
+  for (const EdgeEdgePair& pair : candidates.edge_edge) {
+    EXPECT_LT(pair.edge_a, obstacle_offsets.edge);
+    EXPECT_GE(pair.edge_b, obstacle_offsets.edge);
+  }
+
+  // Self candidates of both meshes join the same sorted list.
+  const std::size_t between_count = candidates.vertex_face.size();
+  add_self_candidates(find_self_pairs(a), first, candidates);
+  add_self_candidates(find_self_pairs(b), second, candidates);
+  const ReferenceMesh cloth_reference = reference_mesh(cloth.triangles, cloth_topology, cloth_offsets);
+  const ReferenceMesh obstacle_reference =
+      reference_mesh(obstacle.triangles, obstacle_topology, obstacle_offsets);
+  add_reference(find_self_pairs(a), cloth_reference, cloth_reference, true, reference);
+  add_reference(find_self_pairs(b), obstacle_reference, obstacle_reference, true, reference);
+  EXPECT_GT(candidates.vertex_face.size(), between_count);
+  expect_equal(candidates, reference);
+}
+
+}  // namespace
+}  // namespace weft
