@@ -43,8 +43,8 @@ struct StepStats {
   int linear_iterations = 0;       // conjugate-gradient iterations, summed likewise
   int accepted_steps = 0;          // adaptive stepping: steps taken
   int rejected_steps = 0;          // adaptive stepping: steps retried smaller
-  double residual = 0.0;
-  int yielded_triangles = 0;       // plasticity: triangles whose rest shape flowed           // implicit Euler: largest final gradient norm over cloths
+  double residual = 0.0;           // implicit Euler: largest final gradient norm over cloths
+  int yielded_triangles = 0;       // plasticity: triangles whose rest shape flowed
 
   // Sums the counts and times of `step` into this (the residual keeps the largest).
   StepStats& operator+=(const StepStats& step);
