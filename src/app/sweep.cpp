@@ -254,7 +254,7 @@ int run_locally(const SweepDesc& sweep, const std::vector<SweepCase>& cases, con
     std::fprintf(stderr, "\n");
     return 5;
   }
-  std::fprintf(stderr, "weft sweep: all %zu cases complete in %s\n", total, out.c_str());
+  std::fprintf(stderr, "weft sweep: all %zu cases complete; recordings in %s\n", total, out.c_str());
   return 0;
 }
 

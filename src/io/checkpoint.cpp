@@ -77,10 +77,11 @@ class PayloadReader {
     for (int i = 0; i < 3; ++i) v[i] = value<double>(field);
     return v;
   }
-  Positions positions(const char* field) {
+  Positions positions(const char* field) { return matrix(3, field); }
+  Eigen::MatrixXd matrix(uint64_t expected_rows, const char* field) {
     const uint64_t rows = value<uint64_t>(field), cols = value<uint64_t>(field);
-    if (rows != 3 || cols > (bytes_.size() - offset_) / (3 * sizeof(double))) fail(field);
-    Positions m(3, static_cast<Eigen::Index>(cols));
+    if (rows != expected_rows || cols > (bytes_.size() - offset_) / (rows * sizeof(double))) fail(field);
+    Eigen::MatrixXd m(rows, static_cast<Eigen::Index>(cols));
     take(m.data(), sizeof(double) * m.size(), field);
     return m;
   }
@@ -101,6 +102,23 @@ class PayloadReader {
   size_t offset_ = 0;
 };
 
+// Membrane rest shapes as columns (dm_inverse column-major, area) and back.
+Eigen::MatrixXd pack_membrane_rest(const std::vector<MembraneRest>& rest) {
+  Eigen::MatrixXd packed(5, static_cast<Eigen::Index>(rest.size()));
+  for (size_t t = 0; t < rest.size(); ++t) {
+    packed.col(t).head<4>() = Eigen::Map<const Eigen::Vector4d>(rest[t].dm_inverse.data());
+    packed(4, t) = rest[t].area;
+  }
+  return packed;
+}
+
+void unpack_membrane_rest(const Eigen::MatrixXd& packed, std::vector<MembraneRest>& rest) {
+  for (size_t t = 0; t < rest.size(); ++t) {
+    Eigen::Map<Eigen::Vector4d>(rest[t].dm_inverse.data()) = packed.col(t).head<4>();
+    rest[t].area = packed(4, t);
+  }
+}
+
 }  // namespace
 
 Checkpoint capture_checkpoint(const World& world, int frame, const std::string& scene_json,
@@ -113,7 +131,8 @@ Checkpoint capture_checkpoint(const World& world, int frame, const std::string& 
   for (size_t c = 0; c < world.cloths().size(); ++c) {
     const Cloth& cloth = world.cloths()[c];
     checkpoint.cloths.push_back({cloth.model.name, cloth.state.x, cloth.state.v, cloth.model.rest_positions,
-                                 world.adaptive_state(static_cast<int>(c))});
+                                 world.adaptive_state(static_cast<int>(c)),
+                                 pack_membrane_rest(cloth.model.membrane.rest)});
   }
   for (const Collider& collider : world.colliders()) {
     checkpoint.colliders.push_back(
@@ -133,14 +152,18 @@ void restore_checkpoint(const Checkpoint& checkpoint, World& world, const std::s
     const ClothCheckpoint& saved = checkpoint.cloths[c];
     Cloth& cloth = world.cloths()[c];
     if (saved.name != cloth.model.name || saved.x.cols() != cloth.num_vertices() ||
-        saved.v.cols() != saved.x.cols() || saved.rest_positions.cols() != saved.x.cols()) {
+        saved.v.cols() != saved.x.cols() || saved.rest_positions.cols() != saved.x.cols() ||
+        saved.membrane_rest.cols() != static_cast<Eigen::Index>(cloth.model.membrane.rest.size())) {
       throw IoError(file + ": checkpoint cloth " + std::to_string(c) + " (\"" + saved.name + "\", " +
-                    std::to_string(saved.x.cols()) + " vertices) does not match the scene's (\"" +
-                    cloth.model.name + "\", " + std::to_string(cloth.num_vertices()) + " vertices)");
+                    std::to_string(saved.x.cols()) + " vertices, " + std::to_string(saved.membrane_rest.cols()) +
+                    " membrane triangles) does not match the scene's (\"" + cloth.model.name + "\", " +
+                    std::to_string(cloth.num_vertices()) + " vertices, " +
+                    std::to_string(cloth.model.membrane.rest.size()) + " membrane triangles)");
     }
     cloth.state.x = saved.x;
     cloth.state.v = saved.v;
     cloth.model.rest_positions = saved.rest_positions;
+    unpack_membrane_rest(saved.membrane_rest, cloth.model.membrane.rest);
     world.adaptive_state(static_cast<int>(c)) = saved.adaptive;
   }
   for (size_t k = 0; k < checkpoint.colliders.size(); ++k) {
@@ -174,6 +197,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
     payload.value<int32_t>(cloth.adaptive.accepted);
     payload.value<int32_t>(cloth.adaptive.rejected);
     payload.value<double>(cloth.adaptive.last_error);
+    payload.matrix(cloth.membrane_rest);
   }
   payload.value<uint32_t>(checkpoint.colliders.size());
   for (const ColliderCheckpoint& collider : checkpoint.colliders) {
@@ -238,6 +262,7 @@ Checkpoint read_checkpoint(const std::string& path) {
     cloth.adaptive.accepted = payload.value<int32_t>("adaptive accepted");
     cloth.adaptive.rejected = payload.value<int32_t>("adaptive rejected");
     cloth.adaptive.last_error = payload.value<double>("adaptive last_error");
+    cloth.membrane_rest = payload.matrix(5, "cloth membrane rest");
     checkpoint.cloths.push_back(std::move(cloth));
   }
   const uint32_t colliders = payload.value<uint32_t>("collider count");

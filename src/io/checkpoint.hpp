@@ -2,16 +2,20 @@
 // Checkpoints: the full state of a run at a frame boundary, so a killed run can resume and
 // produce exactly the frames an uninterrupted run would have.
 //
-// File layout (little-endian), version 1:
+// File layout (little-endian), version 2:
 //   char[8] "WEFTCKPT"  uint32 version  uint32 reserved (0)  uint64 payload bytes
 //   payload                                          (below)
 //   uint64 FNV-1a 64-bit hash of the payload
 // payload: string resolved scene JSON, int32 frame, float64 time, float64 initial energy,
 //   uint32 cloth count, per cloth: string name, matrix x, matrix v, matrix rest_positions,
-//     float64 adaptive next_step, int32 accepted, int32 rejected, float64 last_error;
+//     float64 adaptive next_step, int32 accepted, int32 rejected, float64 last_error,
+//     matrix membrane rest (5 x n_triangles: dm_inverse column-major, area; 0 columns when the
+//     membrane is off);
 //   uint32 collider count, per collider: string name, vec3 center, vec3 normal, float64 radius,
 //     vec3 half_extents.
 // string: uint64 length + bytes; matrix: uint64 rows, uint64 cols, rows*cols float64 column-major.
+// Scripted pins need nothing: they follow from the time. Version 1 files (no membrane rest) are
+// refused with the version they hold.
 #include <string>
 #include <vector>
 
@@ -20,14 +24,16 @@
 
 namespace weft {
 
-inline constexpr unsigned checkpoint_version = 1;
+inline constexpr unsigned checkpoint_version = 2;
 
 struct ClothCheckpoint {
   std::string name;
   Positions x;               // (3 x n_vertices)
   Positions v;               // (3 x n_vertices)
-  Positions rest_positions;  // (3 x n_vertices): may change once plasticity arrives
+  Positions rest_positions;  // (3 x n_vertices)
   AdaptiveState adaptive;
+  Eigen::MatrixXd membrane_rest;  // (5 x n_triangles): dm_inverse (column-major) and area,
+                                  // which plastic flow changes; 0 columns without a membrane
 };
 
 struct ColliderCheckpoint {

@@ -105,25 +105,29 @@ std::vector<std::string> path_segments(const std::string& path) {
   return segments;
 }
 
-// The shortest tail of each grid path that tells it apart from the others ("stiffness", or
+// The shortest tail of each grid path that no other path shares ("stiffness", but
 // "structural.stiffness" when "shear.stiffness" is swept too).
 std::vector<std::string> short_labels(const std::vector<std::string>& paths) {
+  std::vector<std::vector<std::string>> segments;
+  for (const std::string& path : paths) segments.push_back(path_segments(path));
+  const auto tail = [&](size_t k, size_t depth) {
+    const std::vector<std::string>& parts = segments[k];
+    std::string label;
+    for (size_t s = parts.size() > depth ? parts.size() - depth : 0; s < parts.size(); ++s) {
+      label += (label.empty() ? "" : ".") + parts[s];
+    }
+    return label;
+  };
   std::vector<std::string> labels(paths.size());
-  for (size_t depth = 1;; ++depth) {
-    bool all_unique = true;
-    for (size_t k = 0; k < paths.size(); ++k) {
-      const std::vector<std::string> segments = path_segments(paths[k]);
-      std::string label;
-      for (size_t s = segments.size() > depth ? segments.size() - depth : 0; s < segments.size(); ++s) {
-        label += (label.empty() ? "" : ".") + segments[s];
-      }
-      labels[k] = label;
+  for (size_t k = 0; k < paths.size(); ++k) {
+    for (size_t depth = 1;; ++depth) {
+      labels[k] = tail(k, depth);
+      bool unique = true;
+      for (size_t j = 0; j < paths.size() && unique; ++j) unique = j == k || tail(j, depth) != labels[k];
+      if (unique || depth >= segments[k].size()) break;
     }
-    for (size_t k = 0; k < labels.size(); ++k) {
-      for (size_t j = k + 1; j < labels.size(); ++j) all_unique = all_unique && labels[k] != labels[j];
-    }
-    if (all_unique || depth > 64) return labels;
   }
+  return labels;
 }
 
 }  // namespace
