@@ -30,8 +30,9 @@ using Clock = std::chrono::steady_clock;
 constexpr const char* checkpoint_file = "checkpoint.bin";
 constexpr const char* stats_header =
     "frame,time,kinetic_energy,potential_energy,gravitational_energy,elastic_energy,spring_energy,"
-    "energy_dissipated,contacts,newton_iterations,linear_iterations,accepted_steps,rejected_steps,"
-    "move_colliders_ms,integrate_ms,collisions_ms,record_ms,wall_ms";
+    "membrane_energy,bending_energy,pressure_energy,energy_dissipated,contacts,newton_iterations,"
+    "linear_iterations,accepted_steps,rejected_steps,yielded_triangles,move_colliders_ms,integrate_ms,"
+    "collisions_ms,rest_update_ms,record_ms,wall_ms";
 
 volatile std::sig_atomic_t stop_requested = 0;
 extern "C" void request_stop(int) { stop_requested = 1; }
@@ -55,9 +56,10 @@ std::string stats_line(int frame, double time, const Energies& e, double dissipa
   std::ostringstream out;
   out << std::setprecision(10) << frame << ',' << time << ',' << e.kinetic << ','
       << e.gravitational + e.elastic << ',' << e.gravitational << ',' << e.elastic << ',' << e.terms.springs
-      << ',' << dissipated << ',' << s.contacts << ',' << s.newton_iterations << ',' << s.linear_iterations
-      << ',' << s.accepted_steps << ',' << s.rejected_steps << ',' << s.move_colliders_ms << ','
-      << s.integrate_ms << ',' << s.collisions_ms << ',' << record_ms << ',' << wall_ms;
+      << ',' << e.terms.membrane << ',' << e.terms.bending << ',' << e.terms.pressure << ',' << dissipated << ','
+      << s.contacts << ',' << s.newton_iterations << ',' << s.linear_iterations << ',' << s.accepted_steps << ','
+      << s.rejected_steps << ',' << s.yielded_triangles << ',' << s.move_colliders_ms << ',' << s.integrate_ms
+      << ',' << s.collisions_ms << ',' << s.rest_update_ms << ',' << record_ms << ',' << wall_ms;
   return out.str();
 }
 
@@ -343,6 +345,7 @@ int Run::record_and_step() {
            {"cloth", problem.cloth_name},
            {"vertex", problem.vertex},
            {"quantity", problem.quantity},
+           {"element", problem.element >= 0 ? nlohmann::json(problem.element) : nlohmann::json(nullptr)},
            {"value", std::isfinite(problem.value) ? nlohmann::json(problem.value) : nlohmann::json(nullptr)},
            {"term", problem.term},
            {"message", problem.describe()}});

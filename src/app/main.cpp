@@ -51,7 +51,8 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--max-strain", headless_options.limits.max_strain,
-                 "Headless: stop (exit 3) when a spring stretches more, as |d|/rest - 1 (0: no bound)")
+                 "Headless: stop (exit 3) when a spring or membrane triangle stretches more, as "
+                 "stretch - 1 (0: no bound)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_flag("--version", version, "Print the version and exit");

@@ -1,8 +1,16 @@
 #include "sim/stability.hpp"
 
+#include <algorithm>
 #include <cmath>
+
+#include <Eigen/Eigenvalues>
 #include <cstdio>
 #include <vector>
+
+#include "physics/air_drag.hpp"
+#include "physics/hinge_bending.hpp"
+#include "physics/membrane_stvk.hpp"
+#include "physics/volume_pressure.hpp"
 
 namespace weft {
 
@@ -31,6 +39,29 @@ void blame_term(const Cloth& cloth, int vertex, const Vec3& gravity, Instability
                     springs.damping[s] * (v.col(other) - v.col(vertex)).dot(d) * d / (length * length);
     }
     terms.push_back(term);
+  }
+  // Whole-cloth terms, evaluated once here (a failure path, so cost does not matter).
+  const int n = cloth.num_vertices();
+  Positions gradient(3, n);
+  if (model.membrane.enabled()) {
+    gradient.setZero();
+    evaluate_membrane(model.membrane, model.triangles, x, &gradient, nullptr, -1, false);
+    terms.push_back({"membrane", -gradient.col(vertex)});
+  }
+  if (model.bending.enabled()) {
+    gradient.setZero();
+    evaluate_hinge_bending(model.bending, x, &gradient, nullptr, -1, false);
+    terms.push_back({"bending", -gradient.col(vertex)});
+  }
+  if (model.pressure.enabled) {
+    gradient.setZero();
+    evaluate_pressure(model.pressure, model.triangles, x, &gradient, nullptr, -1, false);
+    terms.push_back({"pressure", -gradient.col(vertex)});
+  }
+  if (model.air_drag.enabled()) {
+    Positions force = Positions::Zero(3, n);
+    add_air_drag_forces(model.air_drag, model.triangles, x, v, force);
+    terms.push_back({"air drag", force.col(vertex)});
   }
   terms.push_back({"gravity", model.mass[vertex] * gravity});
   if (model.mass_damping > 0.0)
@@ -73,11 +104,16 @@ std::string Instability::describe() const {
   } else if (quantity == "speed") {
     std::snprintf(text, sizeof text, "cloth \"%s\" vertex %d moves at %.4g m/s, past the bound (--max-speed)",
                   cloth_name.c_str(), vertex, value);
+  } else if (quantity == "membrane_strain") {
+    std::snprintf(text, sizeof text,
+                  "cloth \"%s\" vertex %d is in membrane triangle %d, stretched %.4g times its rest size "
+                  "along its principal direction, past the bound (--max-strain)",
+                  cloth_name.c_str(), vertex, element, value + 1.0);
   } else {
     std::snprintf(text, sizeof text,
-                  "cloth \"%s\" vertex %d has a spring stretched %.4g times its rest length, "
+                  "cloth \"%s\" vertex %d has a spring (%d) stretched %.4g times its rest length, "
                   "past the bound (--max-strain)",
-                  cloth_name.c_str(), vertex, value + 1.0);
+                  cloth_name.c_str(), vertex, element, value + 1.0);
   }
   std::string message = text;
   if (!term.empty()) {
@@ -120,6 +156,24 @@ Instability check_strain(const World& world, const StabilityLimits& limits) {
           (cloth.state.x.col(b) - cloth.state.x.col(a)).norm() / springs.rest_length[s] - 1.0;
       if (strain > limits.max_strain) {
         Instability found = at_vertex(world, c, a, "strain", strain);
+        found.element = s;
+        return found;
+      }
+    }
+    // Membrane: the largest principal stretch sqrt(1 + 2 e_max) of each triangle.
+    const MembraneTerm& membrane = cloth.model.membrane;
+    const Triangles& triangles = cloth.model.triangles;
+    const Positions& x = cloth.state.x;
+    for (int t = 0; t < static_cast<int>(membrane.rest.size()); ++t) {
+      const Eigen::Matrix2d strain_tensor =
+          green_strain(x.col(triangles(0, t)), x.col(triangles(1, t)), x.col(triangles(2, t)), membrane.rest[t]);
+      const double largest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(strain_tensor, Eigen::EigenvaluesOnly)
+                                 .eigenvalues()
+                                 .maxCoeff();
+      const double strain = std::sqrt(std::max(0.0, 1.0 + 2.0 * largest)) - 1.0;
+      if (strain > limits.max_strain) {
+        Instability found = at_vertex(world, c, triangles(0, t), "membrane_strain", strain);
+        found.element = t;
         return found;
       }
     }

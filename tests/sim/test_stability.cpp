@@ -70,5 +70,24 @@ TEST(Stability, StrainPastTheBoundBlamesTheStretchedSpringKind) {
   EXPECT_FALSE(check_strain(world, StabilityLimits{100.0, 0.0}).found);
 }
 
+TEST(Stability, MembraneStrainPastTheBoundNamesTheTriangleAndBlamesTheMembrane) {
+  const auto document = nlohmann::json::parse(R"({
+    "cloths": [{"name": "sheet", "grid": {"size": [1, 1], "resolution": [5, 5]},
+                "membrane": {"young_modulus": 1e6}}]
+  })");
+  World world = build_world(parse_scene(document, "<inline>"));
+  EXPECT_FALSE(check_strain(world, StabilityLimits{100.0, 0.5}).found);
+  world.cloths()[0].state.x.col(24) += Vec3(0.0, 0.0, 2.0);  // the last corner pulled far out
+  const Instability found = check_strain(world, StabilityLimits{100.0, 0.5});
+  ASSERT_TRUE(found.found);
+  EXPECT_EQ(found.quantity, "membrane_strain");
+  EXPECT_GT(found.value, 0.5);
+  EXPECT_GE(found.element, 0);
+  EXPECT_EQ(found.term, "membrane");
+  EXPECT_NE(found.describe().find("membrane triangle " + std::to_string(found.element)), std::string::npos)
+      << found.describe();
+  EXPECT_FALSE(check_strain(world, StabilityLimits{100.0, 0.0}).found);
+}
+
 }  // namespace
 }  // namespace weft
