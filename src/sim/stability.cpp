@@ -150,7 +150,7 @@ Instability check_strain(const World& world, const StabilityLimits& limits) {
     const Cloth& cloth = world.cloths()[c];
     const SpringSet& springs = cloth.model.springs;
     for (int s = 0; s < springs.size(); ++s) {
-      if (springs.rest_length[s] <= 0.0) continue;
+      if (springs.rest_length[s] <= 0.0 || springs.stiffness[s] <= 0.0) continue;  // not a force term
       const int a = springs.vertices(0, s), b = springs.vertices(1, s);
       const double strain =
           (cloth.state.x.col(b) - cloth.state.x.col(a)).norm() / springs.rest_length[s] - 1.0;

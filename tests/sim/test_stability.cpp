@@ -73,6 +73,7 @@ TEST(Stability, StrainPastTheBoundBlamesTheStretchedSpringKind) {
 TEST(Stability, MembraneStrainPastTheBoundNamesTheTriangleAndBlamesTheMembrane) {
   const auto document = nlohmann::json::parse(R"({
     "cloths": [{"name": "sheet", "grid": {"size": [1, 1], "resolution": [5, 5]},
+                "springs": {"structural": {"stiffness": 0}, "shear": {"stiffness": 0}, "bend": {"stiffness": 0}},
                 "membrane": {"young_modulus": 1e6}}]
   })");
   World world = build_world(parse_scene(document, "<inline>"));
