@@ -182,9 +182,11 @@ int run_locally(const SweepDesc& sweep, const std::vector<SweepCase>& cases, con
   struct Running {
     size_t index;
     std::chrono::steady_clock::time_point start;
+    bool resumed;
   };
   std::map<pid_t, Running> running;
   size_t next = 0, finished = 0;
+  bool stop_forwarded = false;
   std::vector<std::string> failed;
   const size_t total = cases.size();
 
@@ -219,10 +221,16 @@ int run_locally(const SweepDesc& sweep, const std::vector<SweepCase>& cases, con
         std::fprintf(stderr, "weft sweep: cannot start %s\n", weft.c_str());
         return 4;
       }
-      running[pid] = {next, std::chrono::steady_clock::now()};
+      running[pid] = {next, std::chrono::steady_clock::now(), resume};
       ++next;
     }
     if (running.empty()) break;  // interrupted before every case started
+    // A stop (Ctrl-C reaches the cases too; SIGTERM to this process alone does not) is passed on
+    // once, so every case ends after its current frame and writes its checkpoint.
+    if (sweep_stop_requested && !stop_forwarded) {
+      for (const auto& [case_pid, ignored] : running) kill(case_pid, SIGTERM);
+      stop_forwarded = true;
+    }
     int wait_status = 0;
     const pid_t pid = waitpid(-1, &wait_status, 0);
     if (pid < 0) {
@@ -235,11 +243,13 @@ int run_locally(const SweepDesc& sweep, const std::vector<SweepCase>& cases, con
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - it->second.start).count();
     const int code = WIFEXITED(wait_status) ? WEXITSTATUS(wait_status) : 128 + WTERMSIG(wait_status);
+    const bool resumed = it->second.resumed;
     running.erase(it);
-    ++finished;
-    std::fprintf(stderr, "weft sweep: [%zu/%zu] %s %s in %.1f s%s\n", finished, total,
+    std::fprintf(stderr, "weft sweep: [%zu/%zu] %s %s in %.1f s%s%s\n", finished + 1, total,
                  sweep_case.name.c_str(), describe_exit(code).c_str(), seconds,
+                 resumed ? " (resumed from its checkpoint)" : "",
                  code == 0 ? "" : (", see " + (out / sweep_case.name / "log.txt").string()).c_str());
+    ++finished;
     if (code != 0) failed.push_back(sweep_case.name);
   }
   if (sweep_stop_requested) {

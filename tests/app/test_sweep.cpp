@@ -3,7 +3,11 @@
 // SLURM_ARRAY_TASK_ID set, giving the same recordings.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <filesystem>
+#include <thread>
 #include <fstream>
 
 #include "support/files.hpp"
@@ -114,6 +118,53 @@ TEST(Sweep, SlurmScriptPassesBashCheckAndRunsArrayCasesLocally) {
                        dir.file("y.txt"));
   EXPECT_NE(result.exit_code, 0);
   EXPECT_NE(result.error_text.find("SLURM_ARRAY_TASK_ID"), std::string::npos) << result.error_text;
+}
+
+// SIGTERM to the sweep alone (a batch system stopping the job's main process) reaches the
+// running cases: each stops after a whole frame with a checkpoint, and a second sweep resumes.
+TEST(Sweep, StopIsPassedToRunningCasesWhichResumeOnTheNextSweep) {
+  TempDir dir("weft_sweep_stop");
+  const std::string path = dir.file("long.json");
+  std::ofstream(path) << R"({"scene": ")" << source_dir << R"(/scenes/drape_sphere.json", "frames": 100000,
+    "checkpoint_every": 1, "set": ["cloths.0.grid.resolution=[6,6]"],
+    "grid": {"cloths.0.mass_damping": [0.1, 0.2]}})";
+  const fs::path out = dir.path() / "out";
+  const std::string log = dir.file("log.txt");
+  const pid_t pid = start_program({weft_program, "sweep", path, "--out", out.string(), "--jobs", "2"}, log);
+  ASSERT_GT(pid, 0);
+  const std::vector<std::string> names = {"000_mass_damping-0.1", "001_mass_damping-0.2"};
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!(fs::exists(out / names[0] / "checkpoint.bin") && fs::exists(out / names[1] / "checkpoint.bin")) &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_TRUE(fs::exists(out / names[1] / "checkpoint.bin"));
+  kill(pid, SIGTERM);
+  const auto result = wait_program(pid, log);
+  EXPECT_EQ(result.exit_code, 130) << result.error_text;
+  for (const std::string& name : names) {
+    EXPECT_EQ(read_json(out / name / "run.json")["status"], "interrupted") << name;
+  }
+  EXPECT_NE(result.error_text.find("interrupted"), std::string::npos) << result.error_text;
+
+  // The same sweep asking for a few frames more than were written: both cases resume from their
+  // checkpoints (not from frame 0) and finish.
+  int stopped_at = 0;
+  for (const std::string& name : names) {
+    stopped_at = std::max(stopped_at, read_json(out / name / "run.json")["frames_written"].get<int>());
+  }
+  const int frames = stopped_at + 3;
+  std::ofstream(path) << R"({"scene": ")" << source_dir << R"(/scenes/drape_sphere.json", "frames": )" << frames
+                      << R"(, "checkpoint_every": 1, "set": ["cloths.0.grid.resolution=[6,6]"],
+    "grid": {"cloths.0.mass_damping": [0.1, 0.2]}})";
+  const auto again = run_program({weft_program, "sweep", path, "--out", out.string()}, dir.file("again.txt"));
+  ASSERT_EQ(again.exit_code, 0) << again.error_text;
+  for (const std::string& name : names) {
+    EXPECT_EQ(read_json(out / name / "run.json")["status"], "complete") << name;
+    EXPECT_EQ(read_json(out / name / "summary.json")["frames_written"], frames + 1) << name;
+  }
+  EXPECT_EQ(count(again.error_text, "complete in"), 2) << again.error_text;
+  EXPECT_EQ(count(again.error_text, "(resumed from its checkpoint)"), 2) << again.error_text;
 }
 
 TEST(Sweep, BadSweepOrCaseIsRefusedBeforeAnythingRuns) {
