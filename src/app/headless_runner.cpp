@@ -16,6 +16,7 @@
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
+#include "io/csv_log.hpp"
 #include "io/scene_builder.hpp"
 #include "io/scene_file.hpp"
 #include "weft/version.hpp"
@@ -61,18 +62,6 @@ std::string stats_line(int frame, double time, const Energies& e, double dissipa
       << s.rejected_steps << ',' << s.yielded_triangles << ',' << s.move_colliders_ms << ',' << s.integrate_ms
       << ',' << s.collisions_ms << ',' << s.rest_update_ms << ',' << record_ms << ',' << wall_ms;
   return out.str();
-}
-
-// stats.csv rows of a resumed run's frames 0..last_frame.
-std::vector<std::string> read_stats_rows(const fs::path& path, int last_frame) {
-  std::vector<std::string> rows;
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    if (!line.empty() && std::atoi(line.c_str()) <= last_frame) rows.push_back(line);
-  }
-  return rows;
 }
 
 // The per-run summary, computed from the stats rows (so a resumed run covers all its frames).
@@ -153,7 +142,8 @@ class Run {
   int first_frame_ = 0;  // the frame to record first (0, or the checkpoint's + 1)
   int frames_written_ = 0;
   double initial_energy_ = 0.0;
-  std::vector<std::string> stats_rows_;
+  std::vector<std::string> stats_rows_;  // every stats.csv row so far, for summary.json
+  CsvLog stats_log_;
   Checkpoint checkpoint_;
 };
 
@@ -289,19 +279,18 @@ int Run::record_and_step() {
     fs::remove(out_ / checkpoint_file, ignored);  // a stale checkpoint of an earlier run
     write_run_json("running");
     recording.start(world_);
+    stats_log_ = CsvLog::create((out_ / "stats.csv").string(), stats_header);
   } else {
     frames_written_ = first_frame_;
-    stats_rows_ = read_stats_rows(out_ / "stats.csv", first_frame_ - 1);
+    stats_log_ = CsvLog::reopen((out_ / "stats.csv").string(), stats_header, first_frame_ - 1, &stats_rows_);
+    if (static_cast<int>(stats_rows_.size()) != first_frame_) {
+      throw IoError((out_ / "stats.csv").string() + ": expected the rows of frames 0.." +
+                    std::to_string(first_frame_ - 1) + " to resume, found " + std::to_string(stats_rows_.size()));
+    }
     write_run_json("running");
     recording.resume(world_, first_frame_ - 1);
   }
 
-  const auto write_stats = [&] {
-    write_file_atomically((out_ / "stats.csv").string(), [&](std::ostream& out) {
-      out << stats_header << '\n';
-      for (const std::string& row : stats_rows_) out << row << '\n';
-    });
-  };
   const auto record = [&](int frame, const StepStats& steps, Clock::time_point frame_start) {
     const auto record_start = Clock::now();
     recording.write_frame(frame, world_);
@@ -309,7 +298,7 @@ int Run::record_and_step() {
     const double record_ms = ms_since(record_start);
     stats_rows_.push_back(stats_line(frame, world_.time(), energies, initial_energy_ - energies.total(),
                                      steps, record_ms, frame == 0 ? 0.0 : ms_since(frame_start)));
-    write_stats();
+    stats_log_.append(stats_rows_.back());
     frames_written_ = frame + 1;
     if (options_.checkpoint_every > 0 && frame > 0 && frame % options_.checkpoint_every == 0) {
       write_checkpoint_now(frame);

@@ -154,17 +154,10 @@ void RecordingWriter::write_manifest(const World& world) const {
                         [&](std::ostream& out) { out << manifest.dump(2) << '\n'; });
 }
 
-void RecordingWriter::write_collider_file() const {
-  write_file_atomically((fs::path(dir_) / collider_file).string(), [&](std::ostream& out) {
-    out << collider_header << '\n';
-    for (const std::string& row : collider_rows_) out << row << '\n';
-  });
-}
-
 void RecordingWriter::start(const World& world) {
   choose_file_names(world);
   caches_.clear();
-  collider_rows_.clear();
+  collider_log_ = CsvLog::create((fs::path(dir_) / collider_file).string(), collider_header);
   if (format_ != RecordingFormat::obj_sequence) {
     for (size_t c = 0; c < world.cloths().size(); ++c) {
       const Cloth& cloth = world.cloths()[c];
@@ -194,16 +187,8 @@ void RecordingWriter::resume(const World& world, int last_frame) {
     if (frame_of_file_name(name) > last_frame || name.find(".tmp.") != std::string::npos)
       fs::remove(entry.path(), error);
   }
-  collider_rows_.clear();
-  std::ifstream rows(fs::path(dir_) / collider_file);
-  std::string line;
-  std::getline(rows, line);  // header
-  while (std::getline(rows, line)) {
-    const int frame = std::atoi(line.c_str());
-    if (frame <= last_frame) collider_rows_.push_back(line);
-  }
+  collider_log_ = CsvLog::reopen((fs::path(dir_) / collider_file).string(), collider_header, last_frame);
   write_manifest(world);
-  write_collider_file();
 }
 
 void RecordingWriter::write_frame(int frame, const World& world) {
@@ -220,9 +205,8 @@ void RecordingWriter::write_frame(int frame, const World& world) {
     row << std::setprecision(17) << frame << ',' << world.time() << ',' << csv_field(collider.name) << ','
         << to_string(collider.shape) << ',' << collider.center.x() << ',' << collider.center.y() << ','
         << collider.center.z() << ",1,0,0,0";
-    collider_rows_.push_back(row.str());
+    collider_log_.append(row.str());
   }
-  write_collider_file();
 }
 
 }  // namespace weft

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "io/csv_log.hpp"
 #include "io/point_cache.hpp"
 #include "sim/world.hpp"
 
@@ -39,7 +40,6 @@ class RecordingWriter {
 
  private:
   void write_manifest(const World& world) const;
-  void write_collider_file() const;
   void choose_file_names(const World& world);
 
   std::string dir_;
@@ -49,7 +49,7 @@ class RecordingWriter {
   std::vector<std::string> base_names_;   // per cloth: file name stem
   std::vector<std::string> cache_files_;  // per cloth: NAME.pc2 (point_cache, both)
   std::vector<PointCacheWriter> caches_;
-  std::vector<std::string> collider_rows_;  // colliders.csv lines after the header
+  CsvLog collider_log_;                    // colliders.csv, a row per collider per frame
 };
 
 }  // namespace weft
