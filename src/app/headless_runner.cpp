@@ -57,10 +57,11 @@ std::string stats_line(int frame, double time, const Energies& e, double dissipa
   std::ostringstream out;
   out << std::setprecision(10) << frame << ',' << time << ',' << e.kinetic << ','
       << e.gravitational + e.elastic << ',' << e.gravitational << ',' << e.elastic << ',' << e.terms.springs
-      << ',' << e.terms.membrane << ',' << e.terms.bending << ',' << e.terms.pressure << ',' << dissipated << ','
-      << s.contacts << ',' << s.newton_iterations << ',' << s.linear_iterations << ',' << s.accepted_steps << ','
-      << s.rejected_steps << ',' << s.yielded_triangles << ',' << s.move_colliders_ms << ',' << s.integrate_ms
-      << ',' << s.collisions_ms << ',' << s.rest_update_ms << ',' << record_ms << ',' << wall_ms;
+      << ',' << e.terms.membrane << ',' << e.terms.bending << ',' << e.terms.pressure << ',' << dissipated
+      << ',' << s.contacts << ',' << s.newton_iterations << ',' << s.linear_iterations << ','
+      << s.accepted_steps << ',' << s.rejected_steps << ',' << s.yielded_triangles << ','
+      << s.move_colliders_ms << ',' << s.integrate_ms << ',' << s.collisions_ms << ',' << s.rest_update_ms
+      << ',' << record_ms << ',' << wall_ms;
   return out.str();
 }
 
@@ -285,7 +286,8 @@ int Run::record_and_step() {
     stats_log_ = CsvLog::reopen((out_ / "stats.csv").string(), stats_header, first_frame_ - 1, &stats_rows_);
     if (static_cast<int>(stats_rows_.size()) != first_frame_) {
       throw IoError((out_ / "stats.csv").string() + ": expected the rows of frames 0.." +
-                    std::to_string(first_frame_ - 1) + " to resume, found " + std::to_string(stats_rows_.size()));
+                    std::to_string(first_frame_ - 1) + " to resume, found " +
+                    std::to_string(stats_rows_.size()));
     }
     write_run_json("running");
     recording.resume(world_, first_frame_ - 1);

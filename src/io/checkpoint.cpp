@@ -155,7 +155,8 @@ void restore_checkpoint(const Checkpoint& checkpoint, World& world, const std::s
         saved.v.cols() != saved.x.cols() || saved.rest_positions.cols() != saved.x.cols() ||
         saved.membrane_rest.cols() != static_cast<Eigen::Index>(cloth.model.membrane.rest.size())) {
       throw IoError(file + ": checkpoint cloth " + std::to_string(c) + " (\"" + saved.name + "\", " +
-                    std::to_string(saved.x.cols()) + " vertices, " + std::to_string(saved.membrane_rest.cols()) +
+                    std::to_string(saved.x.cols()) + " vertices, " +
+                    std::to_string(saved.membrane_rest.cols()) +
                     " membrane triangles) does not match the scene's (\"" + cloth.model.name + "\", " +
                     std::to_string(cloth.num_vertices()) + " vertices, " +
                     std::to_string(cloth.model.membrane.rest.size()) + " membrane triangles)");

@@ -165,11 +165,12 @@ Instability check_strain(const World& world, const StabilityLimits& limits) {
     const Triangles& triangles = cloth.model.triangles;
     const Positions& x = cloth.state.x;
     for (int t = 0; t < static_cast<int>(membrane.rest.size()); ++t) {
-      const Eigen::Matrix2d strain_tensor =
-          green_strain(x.col(triangles(0, t)), x.col(triangles(1, t)), x.col(triangles(2, t)), membrane.rest[t]);
-      const double largest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(strain_tensor, Eigen::EigenvaluesOnly)
-                                 .eigenvalues()
-                                 .maxCoeff();
+      const Eigen::Matrix2d strain_tensor = green_strain(x.col(triangles(0, t)), x.col(triangles(1, t)),
+                                                         x.col(triangles(2, t)), membrane.rest[t]);
+      const double largest =
+          Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(strain_tensor, Eigen::EigenvaluesOnly)
+              .eigenvalues()
+              .maxCoeff();
       const double strain = std::sqrt(std::max(0.0, 1.0 + 2.0 * largest)) - 1.0;
       if (strain > limits.max_strain) {
         Instability found = at_vertex(world, c, triangles(0, t), "membrane_strain", strain);

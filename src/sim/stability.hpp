@@ -1,7 +1,7 @@
 #pragma once
 // Detects a run that has gone wrong: a non-finite position or velocity, a vertex faster than a
-// bound, or a spring or membrane triangle stretched past a bound. The finding names the cloth, the vertex and the
-// force term most to blame, so the message says where to look.
+// bound, or a spring or membrane triangle stretched past a bound. The finding names the cloth,
+// the vertex and the force term most to blame, so the message says where to look.
 #include <string>
 
 #include "sim/world.hpp"

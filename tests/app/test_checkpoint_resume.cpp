@@ -142,8 +142,8 @@ TEST(CheckpointResume, PlasticityMovingPinsAndWindResumeBitIdentically) {
                 "moving_pins": [{"corners": ["top_right"], "velocity": [0.2, 0, 0]}]}]
   })";
   const auto run = [&](const fs::path& out, int frames, const std::vector<std::string>& more) {
-    std::vector<std::string> command = {weft_program, "--headless", scene,    "--out", out.string(),
-                                        "--quiet",    "--frames",   std::to_string(frames)};
+    std::vector<std::string> command = {weft_program, "--headless", scene,      "--out",
+                                        out.string(), "--quiet",    "--frames", std::to_string(frames)};
     command.insert(command.end(), more.begin(), more.end());
     return run_program(command, dir.file("log.txt"));
   };

@@ -7,8 +7,8 @@
 #include <chrono>
 #include <csignal>
 #include <filesystem>
-#include <thread>
 #include <fstream>
+#include <thread>
 
 #include "support/files.hpp"
 #include "support/run_program.hpp"
@@ -154,8 +154,8 @@ TEST(Sweep, StopIsPassedToRunningCasesWhichResumeOnTheNextSweep) {
     stopped_at = std::max(stopped_at, read_json(out / name / "run.json")["frames_written"].get<int>());
   }
   const int frames = stopped_at + 3;
-  std::ofstream(path) << R"({"scene": ")" << source_dir << R"(/scenes/drape_sphere.json", "frames": )" << frames
-                      << R"(, "checkpoint_every": 1, "set": ["cloths.0.grid.resolution=[6,6]"],
+  std::ofstream(path) << R"({"scene": ")" << source_dir << R"(/scenes/drape_sphere.json", "frames": )"
+                      << frames << R"(, "checkpoint_every": 1, "set": ["cloths.0.grid.resolution=[6,6]"],
     "grid": {"cloths.0.mass_damping": [0.1, 0.2]}})";
   const auto again = run_program({weft_program, "sweep", path, "--out", out.string()}, dir.file("again.txt"));
   ASSERT_EQ(again.exit_code, 0) << again.error_text;

@@ -161,7 +161,9 @@ TEST(Checkpoint, CorruptOrForeignFilesAreRefused) {
     file.seekp(8);
     file.put('\x09');
   }
-  EXPECT_NE(error_of([&] { read_checkpoint(path); }).find("checkpoint version: expected " + std::to_string(checkpoint_version) + ", got 9"),
+  EXPECT_NE(error_of([&] {
+              read_checkpoint(path);
+            }).find("checkpoint version: expected " + std::to_string(checkpoint_version) + ", got 9"),
             std::string::npos);
 
   std::ofstream(dir.file("text.bin")) << "hello, not a checkpoint at all";
@@ -175,7 +177,8 @@ TEST(Checkpoint, RestoringIntoADifferentWorldIsRefused) {
   const Checkpoint checkpoint = capture_checkpoint(small_world("symplectic_euler", false, 6), 3, "{}", 0.0);
   World other = small_world("symplectic_euler", false, 7);
   const std::string message = error_of([&] { restore_checkpoint(checkpoint, other, "ck.bin"); });
-  EXPECT_NE(message.find("ck.bin: checkpoint cloth 0 (\"sheet\", 36 vertices, 0 membrane triangles) does not match"),
+  EXPECT_NE(message.find(
+                "ck.bin: checkpoint cloth 0 (\"sheet\", 36 vertices, 0 membrane triangles) does not match"),
             std::string::npos)
       << message;
 }
