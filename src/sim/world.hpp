@@ -76,6 +76,12 @@ class World {
   const std::vector<ContactRecord>& contacts() const { return contacts_; }
   Energies energies() const;
 
+  // Checkpoints (io/checkpoint.hpp) save and restore what the step carries from one call to
+  // the next beyond each cloth's state: the time, the colliders and the adaptive controller.
+  void set_time(double time) { time_ = time; }
+  AdaptiveState& adaptive_state(int cloth) { return solvers_[cloth]->adaptive; }
+  const AdaptiveState& adaptive_state(int cloth) const { return solvers_[cloth]->adaptive; }
+
  private:
   // Per-cloth integrator storage, allocated on first use of each integrator.
   struct ClothSolvers {
