@@ -6,6 +6,7 @@
 // tolerance. A degenerate cubic (quadratic, linear, zero motion, coplanar motion) needs no
 // special case: an identically small f gives the whole of [0, 1].
 #include <array>
+#include <cmath>
 
 #include "core/math.hpp"
 
@@ -35,17 +36,21 @@ int near_coplanar_intervals(const CoplanarityCubic& cubic, std::array<TimeInterv
 // Earliest time in [begin, end] at which distance_at(t) <= eta, by conservative advancement:
 // distance_at is `lipschitz`-Lipschitz in t, so no time closer than eta is skipped. Returns a
 // negative value if there is none; after `max_steps` steps it gives up conservatively and
-// returns the time reached.
+// returns the time reached. A slow, grazing approach converges only geometrically, so the
+// default is generous; only pairs inside a near-coplanar interval pay for it.
 template <class DistanceAt>
 double earliest_proximity(const DistanceAt& distance_at, TimeInterval interval, double eta, double lipschitz,
-                          int max_steps = 64) {
+                          int max_steps = 1000) {
   double t = interval.begin;
   for (int step = 0; step < max_steps; ++step) {
     const double distance = distance_at(t);
     if (distance <= eta) return t;
     if (!(lipschitz > 0.0) || t >= interval.end) return -1.0;
-    // No time in [t, t + (distance - eta)/L) can come within eta.
-    t = std::min(t + (distance - eta) / lipschitz, interval.end);
+    // No time in [t, t + (distance - eta)/L) can come within eta. Near the crossing the advance
+    // falls below the resolution of t; then step to the next representable time, which skips
+    // nothing.
+    const double advanced = std::min(t + (distance - eta) / lipschitz, interval.end);
+    t = advanced > t ? advanced : std::nextafter(t, interval.end);
   }
   return t;
 }

@@ -135,7 +135,18 @@ TEST(Candidates, AHingeFoldedFlatNeedsTheNeighbourPair) {
   CollisionCandidates keeping;
   add_self_candidates(find_self_pairs(bvh, SharedVertexPairs::keep), {triangles, topology, {}}, keeping);
   EXPECT_EQ(keeping.vertex_face, (std::vector<VertexFacePair>{{2, 1}, folded}));
-  EXPECT_TRUE(keeping.edge_edge.empty()) << "every edge of one touches the shared edge's ends";
+  // Sides 1-2 and 0-3, and 2-0 and 3-1, each touch the shared edge but not each other: a fold
+  // past flat can cross them, so both pairs are candidates.
+  const auto edge = [&](int v0, int v1) {
+    for (int e = 0; e < topology.num_edges(); ++e) {
+      if (topology.edges(0, e) == std::min(v0, v1) && topology.edges(1, e) == std::max(v0, v1)) return e;
+    }
+    return -1;
+  };
+  std::vector<EdgeEdgePair> expected = {{std::min(edge(1, 2), edge(0, 3)), std::max(edge(1, 2), edge(0, 3))},
+                                        {std::min(edge(2, 0), edge(3, 1)), std::max(edge(2, 0), edge(3, 1))}};
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(keeping.edge_edge, expected);
 }
 
 TEST(Candidates, SelfCandidatesOnAGridMatchTheReference) {

@@ -56,7 +56,7 @@ TEST(CoplanarityCubic, ThreeSimpleRootsGiveThreeNarrowIntervals) {
 TEST(CoplanarityCubic, DoubleAndTripleRootsWithoutSignChange) {
   std::array<TimeInterval, 3> intervals;
   // (t - 0.4)^2 (t + 1): touches zero at 0.4 without changing sign.
-  const CoplanarityCubic touching = cubic_of(0.16, 0.36, 0.2, 1.0);
+  const CoplanarityCubic touching = cubic_of(0.16, -0.64, 0.2, 1.0);
   int count = near_coplanar_intervals(touching, intervals);
   EXPECT_TRUE(covered(intervals, count, 0.4));
   // (t - 0.6)^3: triple root at the inflection.
@@ -97,6 +97,8 @@ TEST(CoplanarityCubic, RandomCubicsHaveEverySampledSignChangeCovered) {
     // Roots placed in or near [0, 1] (some nearly double), random scale.
     const double r0 = u(rng), r1 = trial % 2 ? r0 + 1e-7 * u(rng) : u(rng), r2 = 0.5 + u(rng);
     const double scale = std::pow(10.0, 3 * u(rng));
+    // About one sampled sign change per trial on average: r0, r1 and r2 each fall in [0, 1]
+    // half the time, but a near-double pair (odd trials) shows no sign change between samples.
     const CoplanarityCubic cubic = cubic_of(-scale * r0 * r1 * r2, scale * (r0 * r1 + r0 * r2 + r1 * r2),
                                             -scale * (r0 + r1 + r2), scale, 1e-12 * scale);
     std::array<TimeInterval, 3> intervals;
@@ -113,7 +115,7 @@ TEST(CoplanarityCubic, RandomCubicsHaveEverySampledSignChangeCovered) {
       }
     }
   }
-  EXPECT_GT(roots_checked, 5000);
+  EXPECT_GT(roots_checked, 4500);
 }
 
 TEST(ConservativeAdvancement, FindsTheFirstTimeWithinEtaAndNothingWhenNone) {
