@@ -2,17 +2,21 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <sstream>
 
 #include "app/progress.hpp"
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
-#include "io/obj_io.hpp"
+#include "io/checkpoint.hpp"
+#include "io/csv_log.hpp"
 #include "io/scene_builder.hpp"
 #include "io/scene_file.hpp"
 #include "weft/version.hpp"
@@ -20,6 +24,18 @@
 namespace weft {
 
 namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* checkpoint_file = "checkpoint.bin";
+constexpr const char* stats_header =
+    "frame,time,kinetic_energy,potential_energy,gravitational_energy,elastic_energy,spring_energy,"
+    "membrane_energy,bending_energy,pressure_energy,energy_dissipated,contacts,newton_iterations,"
+    "linear_iterations,accepted_steps,rejected_steps,yielded_triangles,move_colliders_ms,integrate_ms,"
+    "collisions_ms,rest_update_ms,record_ms,wall_ms,steps,broad_phase_ms,narrow_phase_ms,response_ms,step_ms,"
+    "vertex_face_candidates,edge_edge_candidates,proximity_contacts,ccd_impulses,impact_zone_vertices,"
+    "collisions_clean";
 
 volatile std::sig_atomic_t stop_requested = 0;
 extern "C" void request_stop(int) { stop_requested = 1; }
@@ -34,156 +50,326 @@ void install_stop_handlers() {
   sigaction(SIGTERM, &action, nullptr);
 }
 
-std::string frame_file_name(int frame, int total_frames) {
-  const int digits = std::max(4, static_cast<int>(std::to_string(total_frames).size()));
-  std::ostringstream name;
-  name << "frame_" << std::setw(digits) << std::setfill('0') << frame << ".obj";
-  return name.str();
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-void write_frame(const World& world, const std::filesystem::path& path) {
-  std::vector<ObjObject> objects;
-  for (const Cloth& cloth : world.cloths()) {
-    objects.push_back({cloth.model.name, &cloth.state.x, &cloth.model.triangles, &cloth.model.uvs, true});
+std::string stats_line(int frame, double time, const Energies& e, double dissipated, const StepStats& s,
+                       double record_ms, double wall_ms) {
+  std::ostringstream out;
+  out << std::setprecision(10) << frame << ',' << time << ',' << e.kinetic << ','
+      << e.gravitational + e.elastic << ',' << e.gravitational << ',' << e.elastic << ',' << e.terms.springs
+      << ',' << e.terms.membrane << ',' << e.terms.bending << ',' << e.terms.pressure << ',' << dissipated
+      << ',' << s.contacts << ',' << s.newton_iterations << ',' << s.linear_iterations << ','
+      << s.accepted_steps << ',' << s.rejected_steps << ',' << s.yielded_triangles << ','
+      << s.move_colliders_ms << ',' << s.integrate_ms << ',' << s.collisions_ms << ',' << s.rest_update_ms
+      << ',' << record_ms << ',' << wall_ms << ',' << s.steps << ',' << s.broad_phase_ms << ','
+      << s.narrow_phase_ms << ',' << s.response_ms << ',' << s.total_ms << ',' << s.vertex_face_candidates << ','
+      << s.edge_edge_candidates << ',' << s.proximity_contacts << ',' << s.ccd_impulses << ','
+      << s.impact_zone_vertices << ',' << (s.collisions_clean ? 1 : 0);
+  return out.str();
+}
+
+// The per-run summary, computed from the stats rows (so a resumed run covers all its frames).
+nlohmann::json summarise(const std::vector<std::string>& rows, const std::string& status, int exit_code,
+                         int frames_requested) {
+  std::vector<std::string> columns;
+  {
+    std::stringstream header(stats_header);
+    for (std::string name; std::getline(header, name, ',');) columns.push_back(name);
   }
-  write_file_atomically(path.string(), [&](std::ostream& out) { write_obj(out, objects); });
-}
-
-// The first vertex with a non-finite position or velocity, as a message; empty if all are finite.
-std::string find_non_finite(const World& world) {
-  for (const Cloth& cloth : world.cloths()) {
-    for (int i = 0; i < cloth.num_vertices(); ++i) {
-      const bool position_bad = !cloth.state.x.col(i).allFinite();
-      if (position_bad || !cloth.state.v.col(i).allFinite()) {
-        return "cloth \"" + cloth.model.name + "\" vertex " + std::to_string(i) + " has a non-finite " +
-               (position_bad ? "position" : "velocity");
-      }
-    }
+  const auto column = [&](const std::string& name) {
+    return static_cast<size_t>(std::find(columns.begin(), columns.end(), name) - columns.begin());
+  };
+  std::vector<std::vector<double>> table;
+  for (const std::string& row : rows) {
+    std::vector<double> values;
+    std::stringstream fields(row);
+    for (std::string field; std::getline(fields, field, ',');)
+      values.push_back(std::strtod(field.c_str(), nullptr));
+    if (values.size() == columns.size()) table.push_back(values);
   }
-  return {};
+  double wall = 0.0, wall_max = 0.0, newton = 0.0, newton_max = 0.0, contacts_max = 0.0;
+  for (size_t r = 1; r < table.size(); ++r) {  // frame 0 is the initial state, not simulated
+    wall += table[r][column("wall_ms")];
+    wall_max = std::max(wall_max, table[r][column("wall_ms")]);
+    newton += table[r][column("newton_iterations")];
+    newton_max = std::max(newton_max, table[r][column("newton_iterations")]);
+    contacts_max = std::max(contacts_max, table[r][column("contacts")]);
+  }
+  const int simulated = table.empty() ? 0 : static_cast<int>(table.size()) - 1;
+  nlohmann::json summary = {
+      {"status", status},
+      {"exit_code", exit_code},
+      {"frames_requested", frames_requested},
+      {"frames_written", table.size()},
+      {"wall_seconds", wall / 1000.0},
+      {"ms_per_frame", {{"mean", simulated > 0 ? wall / simulated : 0.0}, {"max", wall_max}}},
+      {"newton_iterations", {{"total", newton}, {"max_per_frame", newton_max}}},
+      {"contacts_max", contacts_max}};
+  if (!table.empty()) {
+    const std::vector<double>& first = table.front();
+    const std::vector<double>& last = table.back();
+    summary["simulated_seconds"] = last[column("time")];
+    summary["energy"] = {
+        {"initial_total", first[column("kinetic_energy")] + first[column("potential_energy")]},
+        {"final_kinetic", last[column("kinetic_energy")]},
+        {"final_potential", last[column("potential_energy")]},
+        {"dissipated", last[column("energy_dissipated")]}};
+  }
+  return summary;
 }
 
-struct FrameStats {
-  int frame = 0;
-  double time = 0.0;
-  Energies energies;
-  double dissipated = 0.0;  // J: total energy lost since frame 0 (damping, contact, friction)
-  StepStats steps;          // summed over the frame's steps
-  double wall_ms = 0.0;
+// A scene as its resolved JSON without "frames", which a resumed run may change.
+nlohmann::json comparable_scene(nlohmann::json scene) {
+  scene.erase("frames");
+  return scene;
+}
+
+class Run {
+ public:
+  explicit Run(const HeadlessOptions& options) : options_(options) {}
+  int execute();
+
+ private:
+  int load();
+  int record_and_step();
+  void write_run_json(const std::string& status) const;
+  void write_summary(const std::string& status, int exit_code, const nlohmann::json& failure = nullptr) const;
+  void write_checkpoint_now(int frame) const;
+
+  const HeadlessOptions& options_;
+  std::vector<std::string> overrides_;  // as given, plus "frames=N" for --frames
+  std::string scene_file_;
+  SceneDesc scene_;
+  std::string scene_json_;
+  World world_;
+  fs::path out_;
+  int first_frame_ = 0;  // the frame to record first (0, or the checkpoint's + 1)
+  int frames_written_ = 0;
+  double initial_energy_ = 0.0;
+  std::vector<std::string> stats_rows_;  // every stats.csv row so far, for summary.json
+  CsvLog stats_log_;
+  Checkpoint checkpoint_;
 };
 
-void write_stats(const std::filesystem::path& path, const std::vector<FrameStats>& rows) {
-  write_file_atomically(path.string(), [&](std::ostream& out) {
-    out << "frame,time,kinetic_energy,potential_energy,gravitational_energy,elastic_energy,spring_energy,"
-           "energy_dissipated,contacts,newton_iterations,linear_iterations,accepted_steps,rejected_steps,"
-           "integrate_ms,collisions_ms,wall_ms,steps,broad_phase_ms,narrow_phase_ms,response_ms,step_ms,"
-           "vertex_face_candidates,edge_edge_candidates,proximity_contacts,ccd_impulses,impact_zone_vertices,"
-           "collisions_clean\n";
-    out << std::setprecision(10);
-    for (const FrameStats& row : rows) {
-      const Energies& e = row.energies;
-      const StepStats& s = row.steps;
-      out << row.frame << ',' << row.time << ',' << e.kinetic << ',' << e.gravitational + e.elastic << ','
-          << e.gravitational << ',' << e.elastic << ',' << e.terms.springs << ',' << row.dissipated << ','
-          << s.contacts << ',' << s.newton_iterations << ',' << s.linear_iterations << ',' << s.accepted_steps
-          << ',' << s.rejected_steps << ',' << s.integrate_ms << ',' << s.collisions_ms << ',' << row.wall_ms
-          << ',' << s.steps << ',' << s.broad_phase_ms << ',' << s.narrow_phase_ms << ',' << s.response_ms << ','
-          << s.total_ms << ',' << s.vertex_face_candidates << ',' << s.edge_edge_candidates << ','
-          << s.proximity_contacts << ',' << s.ccd_impulses << ',' << s.impact_zone_vertices << ','
-          << (s.collisions_clean ? 1 : 0) << '\n';
+// Reads and checks everything (scene, checkpoint) before touching the output folder.
+int Run::load() {
+  const bool resuming = !options_.resume_dir.empty();
+  out_ = resuming ? fs::path(options_.resume_dir) : fs::path(options_.out_dir);
+  scene_file_ = options_.scene_path;
+  overrides_ = options_.overrides;
+  if (resuming) {
+    const std::string checkpoint_path = (out_ / checkpoint_file).string();
+    if (!fs::exists(checkpoint_path)) {
+      std::fprintf(
+          stderr, "weft: %s: no checkpoint to resume from (was the run started with --checkpoint-every N?)\n",
+          checkpoint_path.c_str());
+      return exit_bad_input;
     }
-  });
+    checkpoint_ = read_checkpoint(checkpoint_path);
+    if (!options_.scene_given) {
+      // The recorded run's scene file and overrides, as run.json has them.
+      const std::string run_path = (out_ / "run.json").string();
+      std::ifstream in(run_path);
+      const nlohmann::json run = nlohmann::json::parse(in, nullptr, false);
+      if (run.is_discarded() || !run.contains("scene_file") || !run["scene_file"].is_string() ||
+          !run.contains("overrides") || !run["overrides"].is_array()) {
+        std::fprintf(stderr,
+                     "weft: %s: expected the recorded run's \"scene_file\" and \"overrides\"; "
+                     "name the scene on the command line instead\n",
+                     run_path.c_str());
+        return exit_bad_input;
+      }
+      scene_file_ = run["scene_file"].get<std::string>();
+      std::vector<std::string> recorded = run["overrides"].get<std::vector<std::string>>();
+      recorded.insert(recorded.end(), overrides_.begin(), overrides_.end());
+      overrides_ = recorded;
+    }
+  }
+  if (options_.frames >= 0) overrides_.push_back("frames=" + std::to_string(options_.frames));
+  scene_ = load_scene_file(scene_file_, overrides_);
+  world_ = build_world(scene_);
+  world_.settings.threads = options_.threads > 0 ? options_.threads : omp_get_num_procs();
+  scene_json_ = scene_to_json(scene_).dump();
+  if (resuming) {
+    const nlohmann::json saved = comparable_scene(nlohmann::json::parse(checkpoint_.scene_json));
+    const nlohmann::json now = comparable_scene(nlohmann::json::parse(scene_json_));
+    if (saved != now) {
+      const nlohmann::json patch = nlohmann::json::diff(saved, now);
+      const std::string where = patch.empty() ? "/" : patch[0].value("path", "/");
+      const nlohmann::json::json_pointer pointer(where);
+      std::fprintf(stderr,
+                   "weft: %s: the scene differs from the checkpoint's at %s (checkpoint: %s, now: %s); "
+                   "resume with the same scene and overrides\n",
+                   (out_ / checkpoint_file).c_str(), where.c_str(),
+                   saved.contains(pointer) ? saved[pointer].dump().c_str() : "absent",
+                   now.contains(pointer) ? now[pointer].dump().c_str() : "absent");
+      return exit_bad_input;
+    }
+    if (checkpoint_.frame > scene_.frames) {
+      std::fprintf(stderr, "weft: %s: the checkpoint is at frame %d, past the %d frames asked for\n",
+                   (out_ / checkpoint_file).c_str(), checkpoint_.frame, scene_.frames);
+      return exit_bad_input;
+    }
+    restore_checkpoint(checkpoint_, world_, (out_ / checkpoint_file).string());
+    first_frame_ = checkpoint_.frame + 1;
+    initial_energy_ = checkpoint_.initial_energy;
+  } else {
+    initial_energy_ = world_.energies().total();
+  }
+  return exit_done;
 }
 
-void write_run_json(const std::filesystem::path& path, const HeadlessOptions& options, const SceneDesc& scene,
-                    const std::string& status, int frames_written) {
-  nlohmann::json run = {{"weft_version", version_string},
-                        {"git_commit", git_commit},
-                        {"scene_file", options.scene_path},
-                        {"overrides", options.overrides},
-                        {"status", status},
-                        {"frames_written", frames_written},
-                        {"scene", scene_to_json(scene)}};
-  write_file_atomically(path.string(), [&](std::ostream& out) { out << run.dump(2) << '\n'; });
+void Run::write_run_json(const std::string& status) const {
+  const nlohmann::json run = {{"weft_version", version_string},
+                              {"git_commit", git_commit},
+                              {"scene_file", scene_file_},
+                              {"overrides", overrides_},
+                              {"threads", world_.settings.threads},
+                              {"format", to_string(options_.format)},
+                              {"checkpoint_every", options_.checkpoint_every},
+                              {"status", status},
+                              {"frames_written", frames_written_},
+                              {"scene", nlohmann::json::parse(scene_json_)}};
+  write_file_atomically((out_ / "run.json").string(), [&](std::ostream& out) { out << run.dump(2) << '\n'; });
+}
+
+void Run::write_summary(const std::string& status, int exit_code, const nlohmann::json& failure) const {
+  nlohmann::json summary = summarise(stats_rows_, status, exit_code, scene_.frames);
+  if (!failure.is_null()) summary["failure"] = failure;
+  write_file_atomically((out_ / "summary.json").string(),
+                        [&](std::ostream& out) { out << summary.dump(2) << '\n'; });
+}
+
+void Run::write_checkpoint_now(int frame) const {
+  write_checkpoint((out_ / checkpoint_file).string(),
+                   capture_checkpoint(world_, frame, scene_json_, initial_energy_));
+}
+
+int Run::execute() {
+  try {
+    if (const int code = load(); code != exit_done) return code;
+  } catch (const SceneError& error) {
+    std::fprintf(stderr, "weft: %s\n", error.what());
+    return exit_bad_input;
+  } catch (const IoError& error) {
+    std::fprintf(stderr, "weft: %s\n", error.what());
+    return exit_bad_input;
+  }
+
+  try {
+    std::error_code error;
+    fs::create_directories(out_, error);
+    if (error || !fs::is_directory(out_)) {
+      throw IoError(out_.string() + ": cannot create output folder" + (error ? ": " + error.message() : ""));
+    }
+    return record_and_step();
+  } catch (const IoError& error) {
+    std::fprintf(stderr, "weft: %s\n", error.what());
+    // Best effort: say in run.json why the run stopped (this may fail too when the disk is full).
+    try {
+      write_run_json("output_error");
+      write_summary("output_error", exit_output_error, {{"message", error.what()}});
+    } catch (const IoError&) {
+    }
+    return exit_output_error;
+  }
+}
+
+int Run::record_and_step() {
+  const FrameSchedule schedule = frame_schedule(scene_.fps, scene_.time_step);
+  RecordingWriter recording(out_.string(), options_.format, scene_.frames, scene_.fps);
+  std::error_code ignored;
+  if (first_frame_ == 0) {
+    fs::remove(out_ / checkpoint_file, ignored);  // a stale checkpoint of an earlier run
+    write_run_json("running");
+    recording.start(world_);
+    stats_log_ = CsvLog::create((out_ / "stats.csv").string(), stats_header);
+  } else {
+    frames_written_ = first_frame_;
+    stats_log_ = CsvLog::reopen((out_ / "stats.csv").string(), stats_header, first_frame_ - 1, &stats_rows_);
+    if (static_cast<int>(stats_rows_.size()) != first_frame_) {
+      throw IoError((out_ / "stats.csv").string() + ": expected the rows of frames 0.." +
+                    std::to_string(first_frame_ - 1) + " to resume, found " +
+                    std::to_string(stats_rows_.size()));
+    }
+    write_run_json("running");
+    recording.resume(world_, first_frame_ - 1);
+  }
+
+  const auto record = [&](int frame, const StepStats& steps, Clock::time_point frame_start) {
+    const auto record_start = Clock::now();
+    recording.write_frame(frame, world_);
+    const Energies energies = world_.energies();
+    const double record_ms = ms_since(record_start);
+    stats_rows_.push_back(stats_line(frame, world_.time(), energies, initial_energy_ - energies.total(),
+                                     steps, record_ms, frame == 0 ? 0.0 : ms_since(frame_start)));
+    stats_log_.append(stats_rows_.back());
+    frames_written_ = frame + 1;
+    if (options_.checkpoint_every > 0 && frame > 0 && frame % options_.checkpoint_every == 0) {
+      write_checkpoint_now(frame);
+    }
+  };
+
+  install_stop_handlers();
+  ProgressReporter progress(scene_.frames, !options_.quiet);
+  if (first_frame_ == 0) record(0, StepStats{}, Clock::now());
+  for (int frame = std::max(1, first_frame_); frame <= scene_.frames; ++frame) {
+    if (stop_requested) break;
+    const auto frame_start = Clock::now();
+    StepStats frame_steps;
+    Instability problem;
+    for (int step = 0; step < schedule.steps_per_frame && !problem.found; ++step) {
+      world_.step();
+      frame_steps += world_.last_step_stats();
+      problem = check_state(world_, options_.limits);
+    }
+    if (!problem.found) problem = check_strain(world_, options_.limits);
+    if (problem.found) {
+      progress.finish(frames_written_ - 1);
+      std::fprintf(stderr,
+                   "weft: the simulation diverged in frame %d (t = %.6g s): %s. Frames 0..%d are written%s. "
+                   "Try a smaller solver.time_step, more solver.substeps or softer springs.\n",
+                   frame, world_.time(), problem.describe().c_str(), frames_written_ - 1,
+                   fs::exists(out_ / checkpoint_file) ? " and the last checkpoint is kept" : "");
+      write_run_json("diverged");
+      write_summary(
+          "diverged", exit_diverged,
+          {{"frame", frame},
+           {"time", world_.time()},
+           {"cloth", problem.cloth_name},
+           {"vertex", problem.vertex},
+           {"quantity", problem.quantity},
+           {"element", problem.element >= 0 ? nlohmann::json(problem.element) : nlohmann::json(nullptr)},
+           {"value", std::isfinite(problem.value) ? nlohmann::json(problem.value) : nlohmann::json(nullptr)},
+           {"term", problem.term},
+           {"message", problem.describe()}});
+      return exit_diverged;
+    }
+    record(frame, frame_steps, frame_start);
+    progress.update(frame);
+  }
+  progress.finish(frames_written_ - 1);
+  if (stop_requested) {
+    // A checkpoint of the last whole frame, so a preempted cluster job resumes where it stopped.
+    if (options_.checkpoint_every > 0 && frames_written_ > 1) write_checkpoint_now(frames_written_ - 1);
+    write_run_json("interrupted");
+    write_summary("interrupted", exit_interrupted);
+    std::fprintf(stderr, "weft: interrupted; frames 0..%d in %s are complete\n", frames_written_ - 1,
+                 out_.c_str());
+    return exit_interrupted;
+  }
+  write_run_json("complete");
+  write_summary("complete", exit_done);
+  return exit_done;
 }
 
 }  // namespace
 
 int run_headless(const HeadlessOptions& options) {
-  // Read and check everything before touching the output folder.
-  std::vector<std::string> overrides = options.overrides;
-  if (options.frames >= 0) overrides.push_back("frames=" + std::to_string(options.frames));
-  SceneDesc scene;
-  World world;
-  try {
-    scene = load_scene_file(options.scene_path, overrides);
-    world = build_world(scene);
-    world.settings.threads = options.threads > 0 ? options.threads : omp_get_num_procs();
-  } catch (const SceneError& error) {
-    std::fprintf(stderr, "weft: %s\n", error.what());
-    return 2;
-  }
-
-  const std::filesystem::path out_dir(options.out_dir);
-  const FrameSchedule schedule = frame_schedule(scene.fps, scene.time_step);
-  HeadlessOptions recorded = options;
-  recorded.overrides = overrides;
-  std::vector<FrameStats> rows;
-  int frames_written = 0;
-  try {
-    std::error_code error;
-    std::filesystem::create_directories(out_dir, error);
-    if (error || !std::filesystem::is_directory(out_dir)) {
-      throw IoError(options.out_dir + ": cannot create output folder" + (error ? ": " + error.message() : ""));
-    }
-    write_run_json(out_dir / "run.json", recorded, scene, "running", 0);
-
-    install_stop_handlers();
-    ProgressReporter progress(scene.frames, !options.quiet);
-    const double initial_energy = world.energies().total();
-    const auto record = [&](int frame, const StepStats& steps, double wall_ms) {
-      write_frame(world, out_dir / frame_file_name(frame, scene.frames));
-      const Energies energies = world.energies();
-      rows.push_back({frame, world.time(), energies, initial_energy - energies.total(), steps, wall_ms});
-      write_stats(out_dir / "stats.csv", rows);
-      frames_written = frame + 1;
-    };
-
-    record(0, StepStats{}, 0.0);
-    for (int frame = 1; frame <= scene.frames; ++frame) {
-      if (stop_requested) break;
-      const auto start = std::chrono::steady_clock::now();
-      StepStats frame_steps;
-      for (int step = 0; step < schedule.steps_per_frame; ++step) {
-        world.step();
-        frame_steps += world.last_step_stats();
-      }
-      const double wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-      if (const std::string bad = find_non_finite(world); !bad.empty()) {
-        progress.finish(frame - 1);
-        std::fprintf(stderr,
-                     "weft: the simulation diverged in frame %d (t = %.6g s): %s. Frames 0..%d are written. "
-                     "Try a smaller solver.time_step, more solver.substeps or softer springs.\n",
-                     frame, world.time(), bad.c_str(), frame - 1);
-        write_run_json(out_dir / "run.json", recorded, scene, "diverged", frames_written);
-        return 3;
-      }
-      record(frame, frame_steps, wall_ms);
-      progress.update(frame);
-    }
-    progress.finish(frames_written - 1);
-    if (stop_requested) {
-      write_run_json(out_dir / "run.json", recorded, scene, "interrupted", frames_written);
-      std::fprintf(stderr, "weft: interrupted; frames 0..%d in %s are complete\n", frames_written - 1,
-                   options.out_dir.c_str());
-      return 130;
-    }
-    write_run_json(out_dir / "run.json", recorded, scene, "complete", frames_written);
-  } catch (const IoError& error) {
-    std::fprintf(stderr, "weft: %s\n", error.what());
-    return 4;
-  }
-  return 0;
+  Run run(options);
+  return run.execute();
 }
 
 }  // namespace weft

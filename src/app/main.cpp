@@ -1,4 +1,5 @@
-// weft: the viewer by default, or a headless recording with --headless.
+// weft: the viewer by default, a headless recording with --headless, and the `sweep` and
+// `plot` commands. This file only reads the command line and dispatches.
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -6,6 +7,8 @@
 #include <CLI/CLI.hpp>
 
 #include "app/headless_runner.hpp"
+#include "app/plot.hpp"
+#include "app/sweep.hpp"
 #include "weft/version.hpp"
 #ifdef WEFT_HAS_VIEWER
 #include "app/viewer.hpp"
@@ -13,27 +16,81 @@
 
 int main(int argc, char** argv) {
   CLI::App app{"Weft: cloth and soft-body simulation"};
-  std::string scene_path = "scenes/default.json";
+  weft::HeadlessOptions headless_options;
+  headless_options.scene_path = "scenes/default.json";
   bool headless = false;
-  std::string out_dir;
-  int frames = -1;
-  std::vector<std::string> overrides;
   std::string screenshot;
-  bool quiet = false;
-  int threads = 1;
+  std::string format = "pc2";
   bool version = false;
+  std::string record_dir;
+  std::vector<std::string> open_panels;
+  std::vector<std::string> show;
+  int box_depth = 0;
+  int subdivision = 0;
+  bool test_contacts = false;
 
-  app.add_option("scene", scene_path, "Scene file (JSON)")->capture_default_str();
+  app.add_option("scene", headless_options.scene_path, "Scene file (JSON)")->capture_default_str();
   app.add_flag("--headless", headless, "Run without a window and record to --out");
-  app.add_option("--out", out_dir, "Output folder of a headless run");
-  app.add_option("--frames", frames, "Frames to simulate (overrides the scene's \"frames\")")
+  app.add_option("--out", headless_options.out_dir, "Output folder of a headless run");
+  app.add_option("--frames", headless_options.frames, "Frames to simulate (overrides the scene's \"frames\")")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--set", overrides, "Override a scene field: path=value (e.g. solver.time_step=0.001)")
+  app.add_option("--set", headless_options.overrides,
+                 "Override a scene field: path=value (e.g. solver.time_step=0.001)")
       ->take_all();
   app.add_option("--screenshot", screenshot, "Viewer: simulate --frames frames, save a PNG and exit");
-  app.add_flag("--quiet", quiet, "Headless: no progress output");
-  app.add_option("--threads", threads, "Solver threads (0: all cores)")->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--record", record_dir, "Viewer: save every drawn frame as DIR/frame_NNNNN.png");
+  app.add_option("--show", show,
+                 "Viewer display switches: boxes, contacts, no-contacts, wireframe, strain, no-pins, no-grid, no-colliders, "
+                 "panels (the ImGui panels in saved pictures too)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"boxes", "contacts", "no-contacts", "wireframe", "strain", "no-pins", "no-grid",
+                             "no-colliders", "panels"}));
+  app.add_option("--open-panel", open_panels, "Viewer: start with this panel expanded and in front")
+      ->check(CLI::IsMember({"Simulation", "Solver", "Material", "Display and collisions", "Plots"}));
+  app.add_option("--box-depth", box_depth, "Viewer: bounding-box hierarchy depth shown with --show boxes")
+      ->check(CLI::Range(0, 16));
+  app.add_option("--subdivide", subdivision, "Viewer: Loop subdivision levels of the displayed cloth")
+      ->check(CLI::Range(0, 2));
+  app.add_flag("--test-contacts", test_contacts, "Viewer: draw synthetic contacts (tests the contact display)");
+  app.add_flag("--quiet", headless_options.quiet, "Headless: no progress output");
+  app.add_option("--threads", headless_options.threads, "Solver threads (0: all cores)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--format", format,
+                 "Headless recording: pc2 (rest OBJ + point cache per cloth), obj (a file "
+                 "per frame) or both")
+      ->check(CLI::IsMember({"pc2", "obj", "both"}))
+      ->capture_default_str();
+  app.add_option("--checkpoint-every", headless_options.checkpoint_every,
+                 "Headless: write DIR/checkpoint.bin every N frames (0: never)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--resume", headless_options.resume_dir,
+                 "Headless: continue the run recorded in DIR from its checkpoint");
+  app.add_option("--max-speed", headless_options.limits.max_speed,
+                 "Headless: stop (exit 3) when a vertex moves faster, m/s (0: no bound)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--max-strain", headless_options.limits.max_strain,
+                 "Headless: stop (exit 3) when a spring or membrane triangle stretches more, as "
+                 "stretch - 1 (0: no bound)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_flag("--version", version, "Print the version and exit");
+
+  weft::SweepOptions sweep_options;
+  CLI::App* sweep =
+      app.add_subcommand("sweep", "Run a grid of scene overrides locally, or write a SLURM array job");
+  sweep->add_option("sweep_file", sweep_options.sweep_file, "Sweep file (JSON, docs/sweeps.md)")->required();
+  sweep->add_flag("--slurm", sweep_options.slurm, "Write an sbatch array script instead of running");
+  sweep->add_option("--out", sweep_options.out_dir, "Sweep folder (default: the sweep file's \"out\")");
+  sweep->add_option("--jobs,-j", sweep_options.jobs, "Local runs at once (default: cores / threads)")
+      ->check(CLI::PositiveNumber);
+  sweep->add_flag("--dry-run", sweep_options.dry_run, "List the case names and exit");
+
+  weft::PlotOptions plot_options;
+  CLI::App* plot = app.add_subcommand("plot", "Plot a run's (or a sweep's) stats.csv to PNG with gnuplot");
+  plot->add_option("dir", plot_options.dir, "Run or sweep folder")->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& help) {
@@ -47,29 +104,53 @@ int main(int argc, char** argv) {
     std::printf("weft %s (%s)\n", weft::version_string, weft::git_commit);
     return 0;
   }
+  if (sweep->parsed()) return weft::run_sweep(sweep_options);
+  if (plot->parsed()) return weft::run_plot(plot_options);
   if (headless) {
-    if (out_dir.empty()) {
+    const bool resuming = !headless_options.resume_dir.empty();
+    if (headless_options.out_dir.empty() && !resuming) {
       std::fprintf(stderr, "weft: --headless needs --out DIR, the folder to record into\n");
+      return 2;
+    }
+    if (resuming && !headless_options.out_dir.empty() &&
+        headless_options.out_dir != headless_options.resume_dir) {
+      std::fprintf(
+          stderr,
+          "weft: --resume DIR continues the recording in DIR; leave out --out or give the same folder\n");
       return 2;
     }
     if (!screenshot.empty()) {
       std::fprintf(stderr, "weft: --screenshot needs the viewer; it cannot be combined with --headless\n");
       return 2;
     }
-    return weft::run_headless({scene_path, overrides, out_dir, frames, quiet, threads});
+    headless_options.scene_given = app.count("scene") > 0;
+    weft::recording_format_from_string(format, headless_options.format);
+    return weft::run_headless(headless_options);
+  }
+  for (const char* option : {"--resume", "--checkpoint-every", "--format"}) {
+    if (app.count(option) > 0) {
+      std::fprintf(stderr, "weft: %s needs --headless\n", option);
+      return 2;
+    }
   }
 #ifdef WEFT_HAS_VIEWER
   weft::ViewerOptions options;
-  options.scene_path = scene_path;
-  options.overrides = overrides;
+  options.scene_path = headless_options.scene_path;
+  options.overrides = headless_options.overrides;
   options.screenshot_path = screenshot;
-  options.frames = frames < 0 ? 0 : frames;
+  options.frames = headless_options.frames < 0 ? 0 : headless_options.frames;
+  options.record_dir = record_dir;
+  options.show = show;
+  options.open_panels = open_panels;
+  options.box_depth = box_depth;
+  options.subdivision = subdivision;
+  options.test_contacts = test_contacts;
   return weft::run_viewer(options);
 #else
   std::fprintf(stderr,
                "weft: this build has no viewer (built with WEFT_VIEWER=OFF); run headless instead:\n"
                "  weft --headless %s --out DIR\n",
-               scene_path.c_str());
+               headless_options.scene_path.c_str());
   return 1;
 #endif
 }

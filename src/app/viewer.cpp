@@ -1,5 +1,6 @@
 // The interactive viewer: a GLFW window with an OpenGL 3.3 core context, the World drawn by a
-// Renderer, an orbit camera and the ImGui "Simulation" panel.
+// Renderer with its debug overlay, an orbit camera, mouse dragging of cloth vertices and the ImGui
+// panels. The simulation runs on a wall-clock budget per drawn frame, so the UI stays responsive.
 #include "app/viewer.hpp"
 
 #include <glad/gl.h>
@@ -9,17 +10,24 @@
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <optional>
+#include <string>
 
 #include "core/error.hpp"
 #include "render/orbit_camera.hpp"
+#include "render/picking.hpp"
 #include "render/render_error.hpp"
 #include "render/renderer.hpp"
 #include "render/screenshot.hpp"
 #include "render/world_view.hpp"
-#include "ui/simulation_panel.hpp"
+#include "ui/panels.hpp"
 #include "ui/simulation_session.hpp"
+#include "ui/vertex_drag.hpp"
+#include "ui/viewer_state.hpp"
 
 namespace weft {
 
@@ -51,7 +59,8 @@ class Window {
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);  // macOS needs it, elsewhere harmless
-    glfwWindowHint(GLFW_SAMPLES, 4);
+    glfwWindowHint(GLFW_SAMPLES, 4);                        // MSAA
+    glfwWindowHint(GLFW_SCALE_TO_MONITOR, GLFW_TRUE);       // high-DPI: window size in logical units
     // A screenshot run draws one frame off screen.
     glfwWindowHint(GLFW_VISIBLE, options.screenshot_path.empty() ? GLFW_TRUE : GLFW_FALSE);
     window_ = glfwCreateWindow(options.width, options.height, title.c_str(), nullptr, nullptr);
@@ -97,78 +106,326 @@ class ImGuiLayer {
   }
 };
 
-// Mouse over the 3D view (not over ImGui): left drag orbits, right or middle drag pans, wheel zooms.
-void handle_camera_input(OrbitCamera& camera, int framebuffer_height) {
-  const ImGuiIO& io = ImGui::GetIO();
-  if (io.WantCaptureMouse) return;
-  const double dx = io.MouseDelta.x;
-  const double dy = io.MouseDelta.y;
-  // Mouse motion comes in window units; pan works in framebuffer pixels (they differ on high-DPI).
-  const double pixels_per_unit = io.DisplayFramebufferScale.y > 0.0f ? io.DisplayFramebufferScale.y : 1.0;
-  if (io.MouseDown[0]) {
-    camera.orbit(dx, dy);
-  } else if (io.MouseDown[1] || io.MouseDown[2]) {
-    camera.pan(dx * pixels_per_unit, dy * pixels_per_unit, framebuffer_height);
+// The window's sizes this frame: framebuffer pixels and window units differ on high-DPI screens.
+struct Viewport {
+  int framebuffer_width = 0, framebuffer_height = 0;
+  int window_width = 0, window_height = 0;
+  double aspect() const {
+    return framebuffer_height > 0 ? static_cast<double>(framebuffer_width) / framebuffer_height : 1.0;
   }
-  if (io.MouseWheel != 0.0f) camera.zoom(io.MouseWheel);
+  float pixel_scale() const {
+    return window_width > 0 ? static_cast<float>(framebuffer_width) / window_width : 1.0f;
+  }
+};
+
+// The camera ray under the mouse cursor.
+Ray mouse_ray(const OrbitCamera& camera, const Viewport& viewport) {
+  const ImVec2 mouse = ImGui::GetIO().MousePos;
+  const double ndc_x = 2.0 * mouse.x / std::max(viewport.window_width, 1) - 1.0;
+  const double ndc_y = 1.0 - 2.0 * mouse.y / std::max(viewport.window_height, 1);
+  return camera_ray(camera, viewport.aspect(), ndc_x, ndc_y);
 }
 
-void handle_keys(SimulationSession& session) {
-  if (ImGui::GetIO().WantCaptureKeyboard) return;
-  if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Space), false)) session.playing = !session.playing;
+// Mouse over the 3D view (not over ImGui): left drag on cloth pulls the vertex, elsewhere (or with
+// Alt) orbits; right or middle drag pans; the wheel zooms. Hovering shows the vertex under the cursor.
+class MouseControl {
+ public:
+  void update(OrbitCamera& camera, SimulationSession& session, ViewerState& state, const Viewport& viewport) {
+    const ImGuiIO& io = ImGui::GetIO();
+    World& world = session.world();
+    const Ray ray = mouse_ray(camera, viewport);
+    state.hover = {};
+    if (drag_.active()) {
+      if (!io.MouseDown[0]) {
+        drag_.end(world);
+      } else {
+        drag_.move_to(point_on_view_plane(ray, drag_plane_point_, -camera_forward(camera)));
+        state.hover = {true, drag_.cloth(), drag_.vertex()};
+        return;
+      }
+    }
+    if (io.WantCaptureMouse) {
+      orbiting_ = false;
+      return;
+    }
+    const std::optional<VertexPick> pick = pick_vertex(world.cloths(), ray);
+    if (pick) state.hover = {true, pick->cloth, pick->vertex};
+    if (ImGui::IsMouseClicked(0)) {
+      orbiting_ = io.KeyAlt || !pick;
+      if (!orbiting_) {
+        drag_plane_point_ = pick->hit;
+        drag_.begin(pick->cloth, pick->vertex, pick->hit);
+        return;
+      }
+    }
+    if (!io.MouseDown[0]) orbiting_ = false;
+    if (orbiting_) camera.orbit(io.MouseDelta.x, io.MouseDelta.y);
+    if (io.MouseDown[1] || io.MouseDown[2]) {
+      // Mouse motion comes in window units; pan works in framebuffer pixels.
+      const double scale = viewport.pixel_scale();
+      camera.pan(io.MouseDelta.x * scale, io.MouseDelta.y * scale, viewport.framebuffer_height);
+    }
+    if (io.MouseWheel != 0.0f) camera.zoom(io.MouseWheel);
+  }
+
+  // Refreshes the spring force before each step; a no-op when not dragging.
+  void apply(World& world) const { drag_.apply(world); }
+  void release(World& world) { drag_.end(world); }
+  const VertexDrag& drag() const { return drag_; }
+
+ private:
+  static Vec3 camera_forward(const OrbitCamera& camera) { return (camera.target() - camera.eye()).normalized(); }
+
+  VertexDrag drag_;
+  Vec3 drag_plane_point_ = Vec3::Zero();
+  bool orbiting_ = false;
+};
+
+bool key_pressed(int glfw_key) { return ImGui::IsKeyPressed(glfw_key, false); }
+bool key_down(int glfw_key) { return ImGui::IsKeyDown(glfw_key); }
+
+// Keyboard shortcuts (ignored while an ImGui field has focus).
+void handle_keys(SimulationSession& session, ViewerState& state, OrbitCamera& camera, const Viewport& viewport) {
+  const ImGuiIO& io = ImGui::GetIO();
+  if (io.WantCaptureKeyboard) return;
+  if (key_pressed(GLFW_KEY_SPACE)) session.playing = !session.playing;
+  if (key_pressed(GLFW_KEY_N)) session.advance_step();
+  if (key_pressed(GLFW_KEY_R) && session.reset()) state.history.clear();
+  if (key_pressed(GLFW_KEY_F)) camera.frame(world_bounds(session.world()), viewport.aspect());
+  if (key_pressed(GLFW_KEY_W)) state.view.wireframe = !state.view.wireframe;
+  if (key_pressed(GLFW_KEY_B)) state.view.boxes = !state.view.boxes;
+  if (key_pressed(GLFW_KEY_C)) state.view.contacts = !state.view.contacts;
+  if (key_pressed(GLFW_KEY_T)) state.view.strain = !state.view.strain;
+  if (key_pressed(GLFW_KEY_L)) state.view.subdivision_levels = (state.view.subdivision_levels + 1) % 3;
+  if (key_pressed(GLFW_KEY_P) || key_pressed(GLFW_KEY_F12)) state.save_screenshot = true;
+  if (key_pressed(GLFW_KEY_F5)) state.reload_shaders = true;
+  if (key_pressed(GLFW_KEY_LEFT_BRACKET)) state.view.box_depth = std::max(0, state.view.box_depth - 1);
+  if (key_pressed(GLFW_KEY_RIGHT_BRACKET)) state.view.box_depth = std::min(12, state.view.box_depth + 1);
+  // Arrows orbit (pan with Shift), +/- or Page Up/Down zoom; speeds per drawn frame.
+  const double step = 6.0;
+  const double dx = (key_down(GLFW_KEY_RIGHT) ? step : 0.0) - (key_down(GLFW_KEY_LEFT) ? step : 0.0);
+  const double dy = (key_down(GLFW_KEY_DOWN) ? step : 0.0) - (key_down(GLFW_KEY_UP) ? step : 0.0);
+  if (dx != 0.0 || dy != 0.0) {
+    if (io.KeyShift) {
+      camera.pan(dx, dy, viewport.framebuffer_height);
+    } else {
+      camera.orbit(dx, dy);
+    }
+  }
+  if (key_down(GLFW_KEY_EQUAL) || key_down(GLFW_KEY_KP_ADD) || key_down(GLFW_KEY_PAGE_UP)) camera.zoom(0.1);
+  if (key_down(GLFW_KEY_MINUS) || key_down(GLFW_KEY_KP_SUBTRACT) || key_down(GLFW_KEY_PAGE_DOWN)) camera.zoom(-0.1);
+}
+
+// A tooltip on the hovered vertex: index, pinned or free, position and speed.
+void draw_hover_tooltip(const SimulationSession& session, const ViewerState& state, bool dragging) {
+  if (!state.hover.valid || ImGui::GetIO().WantCaptureMouse) return;
+  const Cloth& cloth = session.world().cloths()[static_cast<size_t>(state.hover.cloth)];
+  const int v = state.hover.vertex;
+  const Vec3 x = cloth.state.x.col(v);
+  ImGui::BeginTooltip();
+  ImGui::Text("cloth %d, vertex %d: %s%s", state.hover.cloth, v, cloth.model.inverse_mass[v] == 0.0 ? "pinned" : "free",
+              dragging ? ", dragged" : "");
+  ImGui::Text("x = (%.3f, %.3f, %.3f) m", x.x(), x.y(), x.z());
+  ImGui::Text("|v| = %.3f m/s, mass %.3g kg", cloth.state.v.col(v).norm(), cloth.model.mass[v]);
+  ImGui::EndTooltip();
+}
+
+// Synthetic contacts spread over the first cloth, all four colours with impulse arrows: they
+// exercise the contact display with every colour whatever the scene touches.
+std::vector<ContactRecord> synthetic_contacts(const World& world) {
+  std::vector<ContactRecord> contacts;
+  if (world.cloths().empty()) return contacts;
+  const Cloth& cloth = world.cloths().front();
+  const Positions normals = vertex_normals(cloth.state.x, cloth.model.triangles);
+  for (int i = 0, k = 0; i < cloth.num_vertices(); i += 23, ++k) {
+    ContactRecord contact;
+    contact.kind = k % 2 == 0 ? ContactKind::vertex_face : ContactKind::edge_edge;
+    contact.partners = (k / 2) % 2 == 0 ? ContactPartners::cloth_solid : ContactPartners::cloth_cloth;
+    contact.position = cloth.state.x.col(i);
+    contact.normal = normals.col(i).normalized();
+    contact.impulse = 1e-3;
+    contacts.push_back(contact);
+  }
+  return contacts;
+}
+
+// The first PREFIX_NNNN.png that does not exist yet.
+std::string next_free_png(const std::string& prefix) {
+  for (int n = 0;; ++n) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "_%04d.png", n);
+    if (!std::filesystem::exists(prefix + name)) return prefix + name;
+  }
+}
+
+// Every OpenGL error raised since the last call, as one message (empty if none).
+std::string take_gl_errors() {
+  std::string message;
+  for (GLenum error = glGetError(); error != GL_NO_ERROR; error = glGetError()) {
+    char code[32];
+    std::snprintf(code, sizeof(code), "%s0x%04x", message.empty() ? "" : ", ", error);
+    message += code;
+  }
+  return message;
+}
+
+ViewOptions view_options_from(const ViewerOptions& options) {
+  ViewOptions view;
+  view.subdivision_levels = std::clamp(options.subdivision, 0, 2);
+  view.box_depth = std::max(options.box_depth, 0);
+  for (const std::string& item : options.show) {
+    if (item == "boxes") view.boxes = true;
+    if (item == "contacts") view.contacts = true;
+    if (item == "no-contacts") view.contacts = false;
+    if (item == "wireframe") view.wireframe = true;
+    if (item == "strain") view.strain = true;
+    if (item == "no-pins") view.pins = false;
+    if (item == "no-grid") view.ground_grid = false;
+    if (item == "no-colliders") view.colliders = false;
+  }
+  return view;
 }
 
 // Runs the window until it is closed, or draws one screenshot. Returns the exit code.
 int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptions& options) {
   ImGuiLayer imgui(window);
   Renderer renderer(WEFT_SHADER_DIR);
-  WorldMeshes meshes = show_world(renderer, session.world());
+  ViewerState state;
+  state.view = view_options_from(options);
+  state.panels_in_pictures =
+      std::find(options.show.begin(), options.show.end(), "panels") != options.show.end();
+  state.scene_files = list_scene_files(std::filesystem::path(session.scene_path()).parent_path().string());
+  if (state.scene_files.empty()) state.scene_files.push_back(session.scene_path());
+  WorldMeshes meshes = show_world(renderer, session.world(), state.view);
   int shown_generation = session.generation();
+  DebugOverlay overlay;
+  MouseControl mouse;
+  session.before_step = [&mouse](World& world) { mouse.apply(world); };
 
-  int framebuffer_width = 0, framebuffer_height = 0;
-  glfwGetFramebufferSize(window, &framebuffer_width, &framebuffer_height);
+  Viewport viewport;
+  glfwGetFramebufferSize(window, &viewport.framebuffer_width, &viewport.framebuffer_height);
+  glfwGetWindowSize(window, &viewport.window_width, &viewport.window_height);
   OrbitCamera camera;
-  camera.frame(world_bounds(session.world()),
-               framebuffer_height > 0 ? static_cast<double>(framebuffer_width) / framebuffer_height : 1.0);
+  camera.frame(world_bounds(session.world()), viewport.aspect());
 
   // Screenshot: a fixed number of frames, independent of wall time, then one picture.
   const bool screenshot = !options.screenshot_path.empty();
   if (screenshot) {
-    for (int frame = 0; frame < options.frames; ++frame) session.advance_frame();
+    for (int frame = 0; frame < options.frames; ++frame) {
+      session.advance_frame();
+      state.history.record(session.world());
+    }
   }
+  // ImGui lays its windows out over a few frames: a picture with panels is taken on the third.
+  int screenshot_frames_left = state.panels_in_pictures ? 3 : 1;
+  bool first_frame = true;
+  state.record_frames = !options.record_dir.empty();
+  const std::string record_dir = options.record_dir.empty() ? "weft_record" : options.record_dir;
+  int recorded = 0;
 
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point last_time = Clock::now();
   while (screenshot || !glfwWindowShouldClose(window)) {
     glfwPollEvents();
-    glfwGetFramebufferSize(window, &framebuffer_width, &framebuffer_height);
+    glfwGetFramebufferSize(window, &viewport.framebuffer_width, &viewport.framebuffer_height);
+    glfwGetWindowSize(window, &viewport.window_width, &viewport.window_height);
+    const Clock::time_point now = Clock::now();
+    const double wall_seconds = std::min(std::chrono::duration<double>(now - last_time).count(), 0.25);
+    last_time = now;
 
     imgui.begin_frame();
-    draw_simulation_panel(session);
-    handle_camera_input(camera, framebuffer_height);
-    handle_keys(session);
-    if (session.playing && !screenshot) session.advance_frame();
+    if (!screenshot) {
+      mouse.update(camera, session, state, viewport);
+      handle_keys(session, state, camera, viewport);
+    }
+    draw_simulation_panel(session, state);
+    draw_solver_panel(session);
+    draw_material_panel(session);
+    draw_debug_panel(session, state);
+    draw_plots_panel(state);
+    draw_status_line(session, state);
+    draw_hover_tooltip(session, state, mouse.drag().active());
+    if (first_frame) {
+      // Panels asked for on the command line: expanded and in front from the next frame on.
+      for (const std::string& name : options.open_panels) {
+        ImGui::SetWindowCollapsed(name.c_str(), false);
+        ImGui::SetWindowFocus(name.c_str());
+      }
+      first_frame = false;
+    }
 
-    // Views follow the world: re-register after a reset, else push new positions.
-    if (session.generation() != shown_generation) {
-      meshes = show_world(renderer, session.world());
+    // Simulation on a wall-clock budget, so a heavy scene slows down instead of freezing the UI.
+    if (session.playing && !screenshot) {
+      const double time_before = session.world().time();
+      if (session.play(wall_seconds, state.speed, state.step_budget_ms) > 0) state.history.record(session.world());
+      const double factor = wall_seconds > 0.0 ? (session.world().time() - time_before) / wall_seconds : 0.0;
+      state.real_time_factor += 0.1 * (factor - state.real_time_factor);
+    } else {
+      state.real_time_factor = 0.0;
+    }
+    if (wall_seconds > 0.0) state.frames_per_second += 0.1 * (1.0 / wall_seconds - state.frames_per_second);
+
+    if (state.reload_shaders) {
+      state.reload_shaders = false;
+      state.shader_message = renderer.reload_shaders();
+    }
+    // Views follow the world: re-register after a reload or a new subdivision level, else push positions.
+    if (session.generation() != shown_generation || state.view.subdivision_levels != meshes.subdivision_levels) {
+      if (session.generation() != shown_generation) mouse.release(session.world());
+      meshes = show_world(renderer, session.world(), state.view);
       shown_generation = session.generation();
     } else {
-      update_world(renderer, meshes, session.world());
+      update_world(renderer, meshes, session.world(), state.view);
     }
-    renderer.draw(camera, framebuffer_width, framebuffer_height);
+    if (state.view.boxes) update_bvhs(meshes, session.world());
+    if (options.test_contacts) {
+      build_overlay(overlay, session.world(), meshes, state.view, synthetic_contacts(session.world()));
+    } else {
+      build_overlay(overlay, session.world(), meshes, state.view, session.world().contacts());
+    }
+    if (mouse.drag().active()) {
+      const Cloth& cloth = session.world().cloths()[static_cast<size_t>(mouse.drag().cloth())];
+      overlay.add_line(cloth.state.x.col(mouse.drag().vertex()), mouse.drag().target(), Color(1.0f, 1.0f, 1.0f));
+      overlay.points.push_back({mouse.drag().target(), Color(1.0f, 1.0f, 1.0f), 6.0f});
+    }
+    renderer.draw(camera, viewport.framebuffer_width, viewport.framebuffer_height, overlay, viewport.pixel_scale());
 
-    // The screenshot shows the 3D view only; the panel is drawn after it is read.
-    if (screenshot) {
-      try {
-        save_back_buffer_png(options.screenshot_path, framebuffer_width, framebuffer_height);
-      } catch (const IoError& error) {
-        std::fprintf(stderr, "weft: %s\n", error.what());
-        return 4;
-      }
+    const std::string gl_errors = take_gl_errors();
+    if (!gl_errors.empty()) {
+      std::fprintf(stderr, "weft: OpenGL error after drawing: %s\n", gl_errors.c_str());
+      if (screenshot) return 5;
     }
-    imgui.end_frame();
+
+    // Pictures show the 3D view only unless asked: the panels are drawn after they are read.
+    if (state.panels_in_pictures) imgui.end_frame();
+    const bool take_screenshot = screenshot && --screenshot_frames_left == 0;
+    try {
+      if (take_screenshot) save_back_buffer_png(options.screenshot_path, viewport.framebuffer_width, viewport.framebuffer_height);
+      if (state.save_screenshot) {
+        state.save_screenshot = false;
+        state.last_saved = next_free_png("weft_screenshot");
+        save_back_buffer_png(state.last_saved, viewport.framebuffer_width, viewport.framebuffer_height);
+      }
+      if (state.record_frames && !screenshot) {
+        std::filesystem::create_directories(record_dir);
+        char name[32];
+        std::snprintf(name, sizeof(name), "/frame_%05d.png", recorded++);
+        save_back_buffer_png(record_dir + name, viewport.framebuffer_width, viewport.framebuffer_height);
+      }
+    } catch (const IoError& error) {
+      std::fprintf(stderr, "weft: %s\n", error.what());
+      if (screenshot) return 4;
+      state.last_saved = error.what();
+      state.record_frames = false;
+    } catch (const std::filesystem::filesystem_error& error) {
+      state.last_saved = error.what();
+      state.record_frames = false;
+    }
+    if (!state.panels_in_pictures) imgui.end_frame();
     glfwSwapBuffers(window);
-    if (screenshot) break;
+    if (take_screenshot) break;
   }
+  session.before_step = nullptr;
   return 0;
 }
 

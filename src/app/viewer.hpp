@@ -10,11 +10,19 @@ struct ViewerOptions {
   std::vector<std::string> overrides;  // "--set path=value"
   std::string screenshot_path;         // if set: run `frames` frames, save a PNG, exit
   int frames = 0;                      // with screenshot_path: frames to simulate first
+  std::string record_dir;              // if set: save every drawn frame as DIR/frame_NNNNN.png
+  std::vector<std::string> show;       // display switches: boxes, contacts, wireframe, strain,
+                                       // no-pins, no-grid, no-colliders, panels
+  std::vector<std::string> open_panels;  // ImGui windows shown expanded from the start (by title)
+  int box_depth = 0;                   // bounding-box depth with "boxes"
+  int subdivision = 0;                 // Loop subdivision levels of the displayed cloth (0 to 2)
+  bool test_contacts = false;          // draw synthetic contacts (tests the contact display path)
   int width = 1280, height = 720;
 };
 
 // Opens the window and runs until closed. Returns the process exit code: 0, 1 when no window
-// can be opened (message on stderr naming --headless), 2 for a bad scene.
+// can be opened (message on stderr naming --headless), 2 for a bad scene or option, 4 when a
+// screenshot cannot be written, 5 when a screenshot run's drawing raised an OpenGL error.
 int run_viewer(const ViewerOptions& options);
 
 }  // namespace weft

@@ -23,8 +23,14 @@ ContactRecord record_of(const CollisionStep& step, const CcdCollision& collision
                   ((1.0 - collision.time) * step.x_start.col(v) + collision.time * step.x_end.col(v));
     }
   }
-  return {position, collision.kind,        settings.thickness - collision.distance,
-          impulse,  collision.primitive_a, collision.primitive_b};
+  return {position,
+          collision.kind,
+          settings.thickness - collision.distance,
+          impulse,
+          collision.primitive_a,
+          collision.primitive_b,
+          ContactPartners::cloth_cloth,
+          collision.stencil.normal};
 }
 
 // Whether the boxes swept by two sets of vertices over the step come within `gap` of each other:

@@ -19,6 +19,7 @@ struct ContactRecord {
   int primitive_a = -1;  // vertex (vertex-face) or edge_a (edge-edge)
   int primitive_b = -1;  // triangle (vertex-face) or edge_b (edge-edge)
   ContactPartners partners = ContactPartners::cloth_cloth;  // set by the world, which knows the meshes
+  Vec3 normal = Vec3::Zero();  // unit direction of the impulse on the vertex / edge_a; zero if not recorded
 };
 
 }  // namespace weft

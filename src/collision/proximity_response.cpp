@@ -92,7 +92,7 @@ int apply_proximity_response(CollisionStep& step, const std::vector<VertexFacePa
     ++acted;
     if (records) {
       records->push_back({p, ContactKind::vertex_face, settings.thickness - closest.distance, impulse,
-                          pair.vertex, pair.triangle});
+                          pair.vertex, pair.triangle, ContactPartners::cloth_cloth, stencil.normal});
     }
   }
 
@@ -114,7 +114,7 @@ int apply_proximity_response(CollisionStep& step, const std::vector<VertexFacePa
     ++acted;
     if (records) {
       records->push_back({closest.point_a, ContactKind::edge_edge, settings.thickness - closest.distance,
-                          impulse, pair.edge_a, pair.edge_b});
+                          impulse, pair.edge_a, pair.edge_b, ContactPartners::cloth_cloth, stencil.normal});
     }
   }
   return acted;

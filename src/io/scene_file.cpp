@@ -275,7 +275,12 @@ ClothDesc read_cloth(const json& value, const std::string& path, const std::stri
   }
   reader.number("density", cloth.density, positive);
   reader.number("mass", cloth.mass, non_negative);
-  if (const json* springs_value = reader.find("springs")) {
+  const json* springs_value = reader.find("springs");
+  if (springs_value == nullptr && reader.find("membrane") != nullptr) {
+    // A continuum membrane replaces the lattice springs unless the scene asks for both.
+    cloth.structural = cloth.shear = cloth.bend = SpringParams{0.0, 0.0};
+  }
+  if (springs_value != nullptr) {
     ObjectReader springs(*springs_value, reader.path_of("springs"), file);
     read_spring(springs, "structural", cloth.structural, file);
     read_spring(springs, "shear", cloth.shear, file);
@@ -453,6 +458,7 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
       newton.integer("max_iterations", scene.implicit.max_newton_iterations, 1, 10000);
       newton.enumeration("linear_solver", scene.implicit.linear_solver, linear_solver_names);
       newton.number("cg_tolerance", scene.implicit.cg_tolerance, positive);
+      newton.number("cg_initial_tolerance", scene.implicit.cg_initial_tolerance, positive);
       newton.integer("max_cg_iterations", scene.implicit.max_cg_iterations, 1, 1000000);
       newton.finish();
     }
@@ -573,6 +579,7 @@ json scene_to_json(const SceneDesc& scene) {
                           {"max_iterations", scene.implicit.max_newton_iterations},
                           {"linear_solver", name_of(scene.implicit.linear_solver, linear_solver_names)},
                           {"cg_tolerance", scene.implicit.cg_tolerance},
+                          {"cg_initial_tolerance", scene.implicit.cg_initial_tolerance},
                           {"max_cg_iterations", scene.implicit.max_cg_iterations}}},
                         {"adaptive",
                          {{"enabled", scene.adaptive.enabled},

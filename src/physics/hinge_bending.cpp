@@ -91,7 +91,7 @@ double dihedral_angle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3
 }
 
 double hinge_bending_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, const HingeRest& rest,
-                            double stiffness, Vector12d* gradient, Matrix12d* hessian) {
+                            double stiffness, Vector12d* gradient, Matrix12d* hessian, bool gauss_newton) {
   const HingeFrame h = hinge_frame(x0, x1, x2, x3);
   double delta = h.theta - rest.rest_angle;
   if (delta > pi) {
@@ -120,7 +120,9 @@ double hinge_bending_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, cons
   if (gradient) *gradient = (2.0 * k * delta) * angle_gradient;
 
   // H = 2 k (grad theta grad theta^T + delta hess theta); hess theta is the sum of the wings'.
-  if (hessian) {
+  if (hessian && gauss_newton) {
+    hessian->noalias() = (2.0 * k) * angle_gradient * angle_gradient.transpose();
+  } else if (hessian) {
     Matrix12d angle_hessian = Matrix12d::Zero();
     add_wing_hessian(h.e, h.u1, h.n1, 1.0, 2, h.l2, angle_hessian);
     add_wing_hessian(h.e, h.u2, h.n2, -1.0, 3, h.l2, angle_hessian);
@@ -157,12 +159,12 @@ double evaluate_hinge_bending(const BendingTerm& term, const Positions& x, Posit
   for (Eigen::Index h = 0; h < term.hinges.cols(); ++h) {
     const Eigen::Vector4i v = term.hinges.col(h);
     energy += hinge_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), term.rest[h], term.stiffness,
-                                   gradient ? &element_gradient : nullptr, hessian ? &element_hessian : nullptr);
+                                   gradient ? &element_gradient : nullptr, hessian ? &element_hessian : nullptr,
+                                   /*gauss_newton=*/project);
     if (gradient) {
       for (int k = 0; k < 4; ++k) gradient->col(v[k]) += element_gradient.segment<3>(3 * k);
     }
     if (hessian) {
-      if (project) project_to_psd<12>(element_hessian);
       hessian->add_element<4>(stencil, static_cast<int>(h), element_hessian);
     }
   }

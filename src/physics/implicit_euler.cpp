@@ -1,5 +1,7 @@
 #include "physics/implicit_euler.hpp"
 
+#include <algorithm>
+
 namespace weft {
 
 void ImplicitEulerSolver::prepare(const ClothModel& model) {
@@ -39,7 +41,7 @@ double ImplicitEulerSolver::incremental_potential(const ClothModel& model, const
 }
 
 // Solves H dx = rhs_; returns false if the solver failed.
-bool ImplicitEulerSolver::solve(const ImplicitEulerSettings& settings) {
+bool ImplicitEulerSolver::solve(const ImplicitEulerSettings& settings, double cg_tolerance) {
   const SparseHessian::Matrix& matrix = hessian_.matrix();
   if (settings.linear_solver == LinearSolverKind::cholesky) {
     // The matrix is symmetric, so its row-major arrays read as column-major are the same matrix.
@@ -55,13 +57,9 @@ bool ImplicitEulerSolver::solve(const ImplicitEulerSettings& settings) {
     dx_ = ldlt_.solve(rhs_);
     return ldlt_.info() == Eigen::Success;
   }
-  cg_.setTolerance(settings.cg_tolerance);
-  cg_.setMaxIterations(settings.max_cg_iterations);
-  cg_.compute(matrix);
-  dx_.setZero();
-  dx_ = cg_.solveWithGuess(rhs_, dx_);
-  report_.linear_iterations += static_cast<int>(cg_.iterations());
-  return cg_.info() == Eigen::Success || cg_.info() == Eigen::NoConvergence;
+  const ConjugateGradientReport cg = cg_.solve(hessian_, rhs_, dx_, cg_tolerance, settings.max_cg_iterations);
+  report_.linear_iterations += cg.iterations;
+  return dx_.allFinite() && cg.iterations > 0;
 }
 
 const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity, double h,
@@ -82,10 +80,15 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
 
   double value = incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/true);
   const auto gradient_vector = [this] { return Eigen::Map<const Eigen::VectorXd>(gradient_.data(), gradient_.size()); };
+  double cg_tolerance = std::max(settings.cg_tolerance, settings.cg_initial_tolerance);
   for (int iteration = 0; iteration < settings.max_newton_iterations; ++iteration) {
     report_.gradient_norms.push_back(gradient_vector().norm());
+    if (iteration > 0) {
+      const double ratio = report_.gradient_norms[iteration] / report_.gradient_norms[iteration - 1];
+      cg_tolerance = std::clamp(ratio * ratio, settings.cg_tolerance, settings.cg_initial_tolerance);
+    }
     rhs_ = -gradient_vector();
-    if (!solve(settings)) break;
+    if (!solve(settings, cg_tolerance)) break;
     ++report_.newton_iterations;
     dx_.array() *= free_mask_.array();
     const Eigen::Map<const Positions> step(dx_.data(), 3, num_vertices_);

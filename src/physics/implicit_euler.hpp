@@ -6,11 +6,11 @@
 // Hessian, a backtracking (Armijo) line search on the incremental potential, and a sparse solve.
 #include <vector>
 
-#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 
 #include "physics/cloth.hpp"
 #include "physics/cloth_terms.hpp"
+#include "physics/conjugate_gradient.hpp"
 #include "physics/sparse_hessian.hpp"
 
 namespace weft {
@@ -21,7 +21,11 @@ struct ImplicitEulerSettings {
   double newton_tolerance = 1e-5;   // m/s: stop when the Newton step's largest |dx| / h is below this
   int max_newton_iterations = 30;
   LinearSolverKind linear_solver = LinearSolverKind::conjugate_gradient;
-  double cg_tolerance = 1e-6;       // relative residual of each conjugate-gradient solve
+  // Conjugate gradient stops at a relative residual eta_k that tightens as Newton converges
+  // (Eisenstat and Walker's forcing term): eta_0 = cg_initial_tolerance, then
+  // eta_k = (|g_k| / |g_{k-1}|)^2, clamped to [cg_tolerance, cg_initial_tolerance].
+  double cg_tolerance = 1e-6;
+  double cg_initial_tolerance = 1e-2;
   int max_cg_iterations = 2000;
 };
 
@@ -46,7 +50,7 @@ class ImplicitEulerSolver {
   void prepare(const ClothModel& model);
   double incremental_potential(const ClothModel& model, const Vec3& gravity, const Positions& x, double h,
                                Positions* gradient, bool assemble);
-  bool solve(const ImplicitEulerSettings& settings);
+  bool solve(const ImplicitEulerSettings& settings, double cg_tolerance);
 
   bool prepared_ = false;
   int num_vertices_ = 0;
@@ -55,7 +59,7 @@ class ImplicitEulerSolver {
   Positions x_start_, x_hat_, gradient_, trial_;
   Eigen::VectorXd free_mask_;       // 1 for free coordinates, 0 for pinned (3n)
   Eigen::VectorXd rhs_, dx_;
-  Eigen::ConjugateGradient<SparseHessian::Matrix, Eigen::Lower | Eigen::Upper, Eigen::DiagonalPreconditioner<double>> cg_;
+  ConjugateGradientSolver cg_;
   Eigen::SimplicialLDLT<ColumnMajor> ldlt_;
   bool ldlt_analyzed_ = false;
   NewtonReport report_;

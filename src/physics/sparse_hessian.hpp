@@ -36,6 +36,16 @@ class SparseHessian {
   // Makes fixed rows and columns identity.
   void finish_assembly();
 
+  // The 3x3 diagonal block of `vertex` (after finish_assembly(): identity for fixed vertices).
+  Mat3 diagonal_block(int vertex) const {
+    Mat3 block;
+    const double* values = matrix_.valuePtr();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) block(r, c) = values[diagonal_slots_[3 * vertex + r] + c];
+    }
+    return block;
+  }
+
   const Matrix& matrix() const { return matrix_; }
   int num_vertices() const { return num_vertices_; }
 

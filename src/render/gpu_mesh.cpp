@@ -4,18 +4,21 @@
 
 #include <cassert>
 #include <utility>
+#include <vector>
 
 namespace weft {
 
 namespace {
 
 // A float vec3 attribute at `location` streamed from `buffer`.
-void define_vec3_attribute(GLuint location, GLuint buffer, int num_vertices) {
+// A float attribute of `size` components at `location` streamed from `buffer`, zero-filled.
+void define_attribute(GLuint location, GLuint buffer, int size, int num_vertices) {
+  const std::vector<float> zeros(static_cast<size_t>(size) * static_cast<size_t>(num_vertices), 0.0f);
   glBindBuffer(GL_ARRAY_BUFFER, buffer);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(3 * sizeof(float)) * num_vertices, nullptr,
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(zeros.size() * sizeof(float)), zeros.data(),
                GL_DYNAMIC_DRAW);
   glEnableVertexAttribArray(location);
-  glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
+  glVertexAttribPointer(location, size, GL_FLOAT, GL_FALSE, size * static_cast<GLsizei>(sizeof(float)), nullptr);
 }
 
 }  // namespace
@@ -25,10 +28,12 @@ GpuMesh::GpuMesh(const Triangles& triangles, int num_vertices)
   glGenVertexArrays(1, &vertex_array_);
   glGenBuffers(1, &position_buffer_);
   glGenBuffers(1, &normal_buffer_);
+  glGenBuffers(1, &scalar_buffer_);
   glGenBuffers(1, &index_buffer_);
   glBindVertexArray(vertex_array_);
-  define_vec3_attribute(0, position_buffer_, num_vertices_);
-  define_vec3_attribute(1, normal_buffer_, num_vertices_);
+  define_attribute(0, position_buffer_, 3, num_vertices_);
+  define_attribute(1, normal_buffer_, 3, num_vertices_);
+  define_attribute(2, scalar_buffer_, 1, num_vertices_);
   // Triangles are 3 x M column-major ints: already the index order GL wants.
   const Eigen::Matrix<unsigned int, 3, Eigen::Dynamic> indices = triangles.cast<unsigned int>();
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_buffer_);
@@ -43,6 +48,7 @@ GpuMesh::GpuMesh(GpuMesh&& other) noexcept
     : vertex_array_(std::exchange(other.vertex_array_, 0)),
       position_buffer_(std::exchange(other.position_buffer_, 0)),
       normal_buffer_(std::exchange(other.normal_buffer_, 0)),
+      scalar_buffer_(std::exchange(other.scalar_buffer_, 0)),
       index_buffer_(std::exchange(other.index_buffer_, 0)),
       num_vertices_(other.num_vertices_),
       num_indices_(other.num_indices_) {}
@@ -53,6 +59,7 @@ GpuMesh& GpuMesh::operator=(GpuMesh&& other) noexcept {
     vertex_array_ = std::exchange(other.vertex_array_, 0);
     position_buffer_ = std::exchange(other.position_buffer_, 0);
     normal_buffer_ = std::exchange(other.normal_buffer_, 0);
+    scalar_buffer_ = std::exchange(other.scalar_buffer_, 0);
     index_buffer_ = std::exchange(other.index_buffer_, 0);
     num_vertices_ = other.num_vertices_;
     num_indices_ = other.num_indices_;
@@ -62,10 +69,10 @@ GpuMesh& GpuMesh::operator=(GpuMesh&& other) noexcept {
 
 void GpuMesh::release() {
   if (vertex_array_ == 0) return;
-  const GLuint buffers[] = {position_buffer_, normal_buffer_, index_buffer_};
-  glDeleteBuffers(3, buffers);
+  const GLuint buffers[] = {position_buffer_, normal_buffer_, scalar_buffer_, index_buffer_};
+  glDeleteBuffers(4, buffers);
   glDeleteVertexArrays(1, &vertex_array_);
-  vertex_array_ = position_buffer_ = normal_buffer_ = index_buffer_ = 0;
+  vertex_array_ = position_buffer_ = normal_buffer_ = scalar_buffer_ = index_buffer_ = 0;
 }
 
 void GpuMesh::upload(const Eigen::Matrix3Xf& positions, const Eigen::Matrix3Xf& normals) {
@@ -75,6 +82,13 @@ void GpuMesh::upload(const Eigen::Matrix3Xf& positions, const Eigen::Matrix3Xf& 
   glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, positions.data());
   glBindBuffer(GL_ARRAY_BUFFER, normal_buffer_);
   glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, normals.data());
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
+void GpuMesh::upload_scalars(const Eigen::VectorXf& scalars) {
+  assert(scalars.size() == num_vertices_);
+  glBindBuffer(GL_ARRAY_BUFFER, scalar_buffer_);
+  glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(sizeof(float)) * num_vertices_, scalars.data());
   glBindBuffer(GL_ARRAY_BUFFER, 0);
 }
 

@@ -1,5 +1,6 @@
 #pragma once
-// A triangle mesh in GPU buffers: fixed indices, positions and normals replaced as often as wanted.
+// A triangle mesh in GPU buffers: fixed indices; positions, normals and one scalar per vertex (e.g.
+// strain for a heat map) replaced as often as wanted.
 // Needs a current GL context.
 #include <Eigen/Core>
 
@@ -19,7 +20,10 @@ class GpuMesh {
 
   // Replaces every vertex's position and normal (3 x num_vertices each).
   void upload(const Eigen::Matrix3Xf& positions, const Eigen::Matrix3Xf& normals);
+  // Replaces every vertex's scalar (num_vertices); zero until set.
+  void upload_scalars(const Eigen::VectorXf& scalars);
   void draw() const;
+  int num_vertices() const { return num_vertices_; }
 
  private:
   void release();
@@ -27,6 +31,7 @@ class GpuMesh {
   unsigned int vertex_array_ = 0;
   unsigned int position_buffer_ = 0;
   unsigned int normal_buffer_ = 0;
+  unsigned int scalar_buffer_ = 0;
   unsigned int index_buffer_ = 0;
   int num_vertices_ = 0;
   int num_indices_ = 0;

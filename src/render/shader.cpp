@@ -101,6 +101,10 @@ void ShaderProgram::set(const char* name, float value) const {
   glUniform1f(glGetUniformLocation(program_, name), value);
 }
 
+void ShaderProgram::set(const char* name, int value) const {
+  glUniform1i(glGetUniformLocation(program_, name), value);
+}
+
 void ShaderProgram::set(const char* name, const Eigen::Vector3f& value) const {
   glUniform3fv(glGetUniformLocation(program_, name), 1, value.data());
 }

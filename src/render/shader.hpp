@@ -19,6 +19,7 @@ class ShaderProgram {
   void use() const;
   // Uniform setters for the program in use; a name the program does not have is ignored.
   void set(const char* name, float value) const;
+  void set(const char* name, int value) const;
   void set(const char* name, const Eigen::Vector3f& value) const;
   void set(const char* name, const Eigen::Matrix4f& value) const;
 

@@ -92,6 +92,21 @@ void CollisionPhase::set_meshes(const std::vector<Cloth>& cloths, const std::vec
   group_edge_edges_.assign(num_groups, {});
 }
 
+void CollisionPhase::update_parameters(const std::vector<Cloth>& cloths,
+                                       const std::vector<ContactMaterial>& materials,
+                                       const std::vector<Collider>& colliders) {
+  std::copy(materials.begin(), materials.end(), materials_.begin());
+  max_thickness_ = 0.0;
+  for (int c = 0; c < num_cloths_; ++c) {
+    meshes_[c].thickness = cloths[c].model.thickness;
+    max_thickness_ = std::max(max_thickness_, meshes_[c].thickness);
+  }
+  for (size_t k = 0; k < colliders_.size(); ++k) {
+    colliders_[k].static_friction = colliders[k].static_friction;
+    colliders_[k].kinetic_friction = colliders[k].friction;
+  }
+}
+
 void CollisionPhase::begin_step(const std::vector<Cloth>& cloths, double t) {
   for (int c = 0; c < num_cloths_; ++c) {
     x_start_.middleCols(meshes_[c].offsets.vertex, meshes_[c].num_vertices) = cloths[c].state.x;
@@ -313,7 +328,8 @@ void CollisionPhase::apply_ccd_impulses() {
       if (impulse > 0.0) {
         ++stats_.ccd_impulses;
         records_.push_back({position, collision.kind, response.thickness - collision.distance, impulse,
-                            collision.primitive_a, collision.primitive_b});
+                            collision.primitive_a, collision.primitive_b, ContactPartners::cloth_cloth,
+                            collision.stencil.normal});
       }
     }
     stats_.response_ms += milliseconds_since(start);

@@ -82,6 +82,11 @@ class CollisionPhase {
   void set_meshes(const std::vector<Cloth>& cloths, const std::vector<ContactMaterial>& materials,
                   const std::vector<ColliderSurface>& colliders);
 
+  // Takes edited contact parameters (thickness, friction, self-collision) of meshes already
+  // registered; the viewer changes them between steps. Allocates nothing.
+  void update_parameters(const std::vector<Cloth>& cloths, const std::vector<ContactMaterial>& materials,
+                         const std::vector<Collider>& colliders);
+
   // Before the integrator moves anything: the step starts at the cloths' current positions and
   // the colliders' poses at time t.
   void begin_step(const std::vector<Cloth>& cloths, double t);

@@ -24,6 +24,7 @@ double milliseconds_since(Clock::time_point start) {
 }  // namespace
 
 void World::add_cloth(Cloth cloth, ContactMaterial material) {
+  external_forces_.push_back(Positions::Zero(3, cloth.num_vertices()));
   cloths_.push_back(std::move(cloth));
   solvers_.push_back(std::make_unique<ClothSolvers>());
   materials_.push_back(material);
@@ -90,6 +91,7 @@ void World::move_colliders(double /*h*/) {
     collisions_.set_meshes(cloths_, materials_, surfaces);
     collision_meshes_stale_ = false;
   }
+  collisions_.update_parameters(cloths_, materials_, colliders_);
   collisions_.begin_step(cloths_, time_);
 }
 
@@ -97,6 +99,12 @@ void World::integrate(double h, StepStats& stats) {
   for (size_t c = 0; c < cloths_.size(); ++c) {
     Cloth& cloth = cloths_[c];
     ClothSolvers& solvers = *solvers_[c];
+    // External forces (the viewer's mouse spring) enter as an impulse v += h M^-1 f; pinned
+    // vertices have inverse mass 0.
+    const Positions& external_force = external_forces_[c];
+    if (!external_force.isZero(0.0)) {
+      cloth.state.v.noalias() += h * (external_force * cloth.model.inverse_mass.asDiagonal());
+    }
     // Scripted pins get the velocity that lands them on their target at t + h; the integrators
     // never move a pinned vertex otherwise, and placing them afterwards removes round-off.
     const bool scripted = !cloth.model.scripted_pins.empty();

@@ -56,7 +56,7 @@ struct StepStats {
   int linear_iterations = 0;       // conjugate-gradient iterations, summed likewise
   int accepted_steps = 0;          // adaptive stepping: steps taken
   int rejected_steps = 0;          // adaptive stepping: steps retried smaller
-  double residual = 0.0;
+  double residual = 0.0;           // implicit Euler: largest final gradient norm over cloths
   int yielded_triangles = 0;       // plasticity: triangles whose rest shape flowed
 
   // Sums the counts and times of `step` into this (the residual keeps the largest).
@@ -79,6 +79,14 @@ class World {
   std::vector<Cloth>& cloths() { return cloths_; }
   const std::vector<Cloth>& cloths() const { return cloths_; }
   const std::vector<Collider>& colliders() const { return colliders_; }
+  std::vector<Collider>& colliders() { return colliders_; }  // live edits (friction) between steps
+  // Friction and self-collision of cloth `cloth`; editable between steps like its thickness.
+  ContactMaterial& contact_material(int cloth) { return materials_.at(static_cast<size_t>(cloth)); }
+  const ContactMaterial& contact_material(int cloth) const { return materials_.at(static_cast<size_t>(cloth)); }
+  // External force on each vertex of cloth `cloth` (N, 3 x n_vertices, zero unless set), e.g. the
+  // viewer's mouse spring. Held constant over a step and applied by every integrator as the
+  // velocity impulse h f / m before it runs (exact for symplectic and implicit Euler).
+  Positions& external_force(int cloth) { return external_forces_.at(static_cast<size_t>(cloth)); }
   const StepStats& last_step_stats() const { return stats_; }
   // Contacts the collision response acted on in the last step (every sub-step).
   const std::vector<ContactRecord>& contacts() const { return collisions_.records(); }
@@ -86,6 +94,12 @@ class World {
   const TriangleMesh& collider_surface(int collider) const { return collider_surfaces_[collider]; }
   Positions collider_positions(int collider) const;
   Energies energies() const;
+
+  // Checkpoints (io/checkpoint.hpp) save and restore what the step carries from one call to
+  // the next beyond each cloth's state: the time, the colliders and the adaptive controller.
+  void set_time(double time) { time_ = time; }
+  AdaptiveState& adaptive_state(int cloth) { return solvers_[cloth]->adaptive; }
+  const AdaptiveState& adaptive_state(int cloth) const { return solvers_[cloth]->adaptive; }
 
  private:
   // Per-cloth integrator storage, allocated on first use of each integrator.
@@ -109,6 +123,7 @@ class World {
   std::vector<ContactMaterial> materials_;       // per cloth
   CollisionPhase collisions_;
   bool collision_meshes_stale_ = true;           // cloths or colliders added since the last step
+  std::vector<Positions> external_forces_;       // one per cloth (3 x n_vertices)
   double time_ = 0.0;
   StepStats stats_;
 };

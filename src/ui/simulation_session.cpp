@@ -1,6 +1,10 @@
 #include "ui/simulation_session.hpp"
 
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
 #include <sstream>
+#include <system_error>
 #include <utility>
 
 #include "core/error.hpp"
@@ -27,23 +31,36 @@ SimulationSession::SimulationSession(std::string scene_path, std::vector<std::st
   set_max_time_step(scene_.time_step);
 }
 
-bool SimulationSession::reset() {
+bool SimulationSession::replace_world(const std::string& scene_path, const std::vector<std::string>& overrides,
+                                      const char* action) {
   try {
-    SceneDesc scene = load_scene_file(scene_path_, overrides_);
+    SceneDesc scene = load_scene_file(scene_path, overrides);
     World world = build_world(scene);
     scene_ = std::move(scene);
     world_ = std::move(world);
   } catch (const SceneError& error) {
-    error_ = std::string("reset failed, kept the current scene: ") + error.what();
+    error_ = std::string(action) + " failed, kept the current scene: " + error.what();
     return false;
   } catch (const IoError& error) {
-    error_ = std::string("reset failed, kept the current scene: ") + error.what();
+    error_ = std::string(action) + " failed, kept the current scene: " + error.what();
     return false;
   }
   set_max_time_step(scene_.time_step);
   frame_ = 0;
+  step_in_frame_ = 0;
+  time_owed_ = 0.0;
+  previous_contacts_ = 0;
   error_.clear();
   ++generation_;
+  return true;
+}
+
+bool SimulationSession::reset() { return replace_world(scene_path_, overrides_, "reset"); }
+
+bool SimulationSession::load(const std::string& scene_path) {
+  if (!replace_world(scene_path, {}, "loading the scene")) return false;
+  scene_path_ = scene_path;
+  overrides_.clear();
   return true;
 }
 
@@ -51,18 +68,71 @@ void SimulationSession::set_max_time_step(double max_time_step) {
   max_time_step_ = max_time_step;
   schedule_ = frame_schedule(scene_.fps, max_time_step_);
   world_.settings.time_step = schedule_.time_step;
+  step_in_frame_ = std::min(step_in_frame_, schedule_.steps_per_frame - 1);
 }
 
-void SimulationSession::advance_frame() {
-  for (int step = 0; step < schedule_.steps_per_frame; ++step) world_.step();
-  ++frame_;
+bool SimulationSession::advance_step() {
+  if (before_step) before_step(world_);
+  world_.step();
+  if (++step_in_frame_ >= schedule_.steps_per_frame) {
+    step_in_frame_ = 0;
+    ++frame_;
+  }
   if (!world_is_finite(world_)) {
     playing = false;
     std::ostringstream message;
     message << "the simulation diverged in frame " << frame_ << " (t = " << world_.time()
             << " s); reset and try a smaller time step";
     error_ = message.str();
+    return false;
   }
+  const int contacts = world_.last_step_stats().contacts;
+  const bool first_contact = contacts > 0 && previous_contacts_ == 0;
+  previous_contacts_ = contacts;
+  if (pause_on_contact && first_contact && playing) {
+    playing = false;
+    std::ostringstream message;
+    message << "paused on the first contact (" << contacts << " contacts at t = " << world_.time() << " s)";
+    error_ = message.str();
+    return false;
+  }
+  return true;
+}
+
+void SimulationSession::advance_frame() {
+  // Finishes the current frame (a whole one when none is under way).
+  const int start_frame = frame_;
+  while (frame_ == start_frame) {
+    if (!advance_step() && !world_is_finite(world_)) return;
+  }
+}
+
+int SimulationSession::play(double wall_seconds, double speed, double budget_ms) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  time_owed_ += std::max(0.0, speed * wall_seconds);
+  int steps = 0;
+  while (playing && time_owed_ >= 0.5 * schedule_.time_step) {
+    advance_step();
+    time_owed_ -= schedule_.time_step;
+    ++steps;
+    if (std::chrono::duration<double, std::milli>(Clock::now() - start).count() > budget_ms) {
+      time_owed_ = 0.0;  // behind real time: drop the debt rather than spiral
+      break;
+    }
+  }
+  if (!playing) time_owed_ = 0.0;
+  return steps;
+}
+
+std::vector<std::string> list_scene_files(const std::string& folder) {
+  std::vector<std::string> files;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
+    if (entry.is_regular_file(error) && entry.path().extension() == ".json") files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
 }
 
 }  // namespace weft

@@ -1,6 +1,8 @@
 #pragma once
-// What the viewer's controls act on: a scene file, the World built from it, play/pause and the
-// largest time step. No OpenGL and no ImGui, so it runs anywhere.
+// What the viewer's controls act on: a scene file, the World built from it, play/pause, the
+// largest time step and real-time playback on a wall-clock budget. No OpenGL and no ImGui, so it
+// runs anywhere.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -17,9 +19,20 @@ class SimulationSession {
   // Reloads the scene file and rebuilds the world. On failure keeps the current world, keeps the
   // message in error(), and returns false.
   bool reset();
+  // Loads another scene file (the overrides are dropped). On failure keeps the current scene and
+  // world, puts the message in error(), and returns false.
+  bool load(const std::string& scene_path);
+
   // Advances one frame of 1/fps simulated seconds in equal steps no longer than max_time_step().
   // Stops playing, with a message in error(), if a position stops being finite.
   void advance_frame();
+  // Advances one time step (a frame is steps_per_frame of them). Returns false if it stopped
+  // playback (divergence, or the first contact with pause_on_contact).
+  bool advance_step();
+  // Real-time playback: owes `speed` x `wall_seconds` of simulated time and takes steps until the
+  // debt is paid or `budget_ms` of wall time is spent; a debt the budget cannot pay is dropped,
+  // so a heavy scene runs slower than real time instead of freezing the UI. Returns the steps taken.
+  int play(double wall_seconds, double speed, double budget_ms);
 
   // Largest time step (s); the frame is cut into frame_schedule(fps, max_time_step) steps.
   double max_time_step() const { return max_time_step_; }
@@ -27,18 +40,27 @@ class SimulationSession {
   const FrameSchedule& schedule() const { return schedule_; }
 
   bool playing = false;
+  bool pause_on_contact = false;  // stop playing on the first step that finds contacts after none
+  // Called before every step (e.g. to refresh the mouse spring's external force).
+  std::function<void(World&)> before_step;
 
   World& world() { return world_; }
   const World& world() const { return world_; }
   const SceneDesc& scene() const { return scene_; }
   const std::string& scene_path() const { return scene_path_; }
   int frame() const { return frame_; }
-  // The last reset failure or divergence, empty if none.
+  // Steps done in the current, unfinished frame.
+  int step_in_frame() const { return step_in_frame_; }
+  // The last reset failure, divergence or contact pause, empty if none.
   const std::string& error() const { return error_; }
-  // Changes whenever reset() replaces the world, so views know to register it again.
+  void clear_error() { error_.clear(); }
+  // Changes whenever the world is replaced, so views know to register it again.
   int generation() const { return generation_; }
 
  private:
+  bool replace_world(const std::string& scene_path, const std::vector<std::string>& overrides,
+                     const char* action);
+
   std::string scene_path_;
   std::vector<std::string> overrides_;
   SceneDesc scene_;
@@ -46,8 +68,14 @@ class SimulationSession {
   double max_time_step_ = 0.0;
   FrameSchedule schedule_;
   int frame_ = 0;
+  int step_in_frame_ = 0;
+  double time_owed_ = 0.0;  // s of simulated time play() still has to take
+  int previous_contacts_ = 0;
   std::string error_;
   int generation_ = 0;
 };
+
+// The scene files (*.json) in `folder`, sorted by name; empty if it cannot be listed.
+std::vector<std::string> list_scene_files(const std::string& folder);
 
 }  // namespace weft

@@ -59,7 +59,8 @@ TEST(HeadlessRunner, WritesFramesStatsAndRunJson) {
   TempDir dir("weft_headless");
   const fs::path out = dir.path() / "drape";
   const auto result = run_program({weft_program, "--headless", source_dir + "/scenes/drape_sphere.json", "--out",
-                                   out.string(), "--frames", "5", "--set", "cloths.0.grid.resolution=[10,12]"},
+                                   out.string(), "--frames", "5", "--format", "obj", "--set",
+                                   "cloths.0.grid.resolution=[10,12]"},
                                   dir.file("log.txt"));
   ASSERT_EQ(result.exit_code, 0) << result.error_text;
   for (int frame = 0; frame <= 5; ++frame) {
@@ -131,7 +132,7 @@ TEST(HeadlessRunner, DivergenceStopsWithCodeThreeNamingTheVertex) {
   TempDir dir("weft_diverge");
   const fs::path out = dir.path() / "out";
   const auto result = run_program({weft_program, "--headless", source_dir + "/scenes/default.json", "--out",
-                                   out.string(), "--frames", "50", "--quiet", "--set",
+                                   out.string(), "--frames", "50", "--quiet", "--format", "obj", "--set",
                                    "cloths.0.springs.structural.stiffness=1e12", "--set", "solver.time_step=0.01"},
                                   dir.file("log.txt"));
   EXPECT_EQ(result.exit_code, 3) << result.error_text;
@@ -145,7 +146,7 @@ TEST(HeadlessRunner, InterruptLeavesEveryWrittenFrameIntact) {
   const fs::path out = dir.path() / "out";
   const std::string log = dir.file("log.txt");
   const pid_t pid = testing::start_program({weft_program, "--headless", source_dir + "/scenes/default.json",
-                                            "--out", out.string(), "--frames", "100000", "--set",
+                                            "--out", out.string(), "--frames", "100000", "--format", "obj", "--set",
                                             "cloths.0.grid.resolution=[48,48]"},
                                            log);
   ASSERT_GT(pid, 0);

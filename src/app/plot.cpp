@@ -1,0 +1,166 @@
+#include "app/plot.hpp"
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "core/error.hpp"
+#include "io/atomic_file.hpp"
+
+extern char** environ;
+
+namespace weft {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// gnuplot's single-quoted string: a quote doubles.
+std::string gp_quote(const std::string& text) {
+  std::string quoted = "'";
+  for (const char c : text) quoted += c == '\'' ? std::string("''") : std::string(1, c);
+  return quoted + "'";
+}
+
+struct Series {
+  std::string title;
+  std::string csv;
+};
+
+// One PNG: the same columns of one or more stats.csv files against the frame.
+std::string plot_commands(const std::string& png, const std::string& title, const std::string& ylabel,
+                          const std::vector<Series>& runs,
+                          const std::vector<std::pair<std::string, std::string>>& columns,
+                          bool skip_first_frame) {
+  std::ostringstream s;
+  s << "set terminal pngcairo size 1000,600 noenhanced\n"
+    << "set output " << gp_quote(png) << "\n"
+    << "set datafile separator ','\n"
+    << "set datafile columnheaders\n"
+    << "set title " << gp_quote(title) << "\n"
+    << "set xlabel 'frame'\n"
+    << "set ylabel " << gp_quote(ylabel) << "\n"
+    << "set grid\n"
+    << "set key outside right\n"
+    << "plot ";
+  bool first = true;
+  for (const Series& run : runs) {
+    for (const auto& [expression, label] : columns) {
+      s << (first ? "" : ", \\\n     ") << gp_quote(run.csv) << " using (column('frame')):(" << expression
+        << ")" << (skip_first_frame ? " every ::1" : "") << " with lines title "
+        << gp_quote(runs.size() > 1 ? run.title + " " + label : label);
+      first = false;
+    }
+  }
+  s << "\nunset output\n";
+  return s.str();
+}
+
+// Runs gnuplot on a script; returns an error message, empty on success.
+std::string run_gnuplot(const std::string& script_path) {
+  const char* argv[] = {"gnuplot", script_path.c_str(), nullptr};
+  pid_t pid = -1;
+  if (posix_spawnp(&pid, "gnuplot", nullptr, nullptr, const_cast<char* const*>(argv), environ) != 0) {
+    return "gnuplot not found: install it (apt-get install gnuplot-nox, or scripts/install-deps)";
+  }
+  int status = 0;
+  if (waitpid(pid, &status, 0) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
+      return "gnuplot not found: install it (apt-get install gnuplot-nox, or scripts/install-deps)";
+    }
+    return "gnuplot failed on " + script_path;
+  }
+  return {};
+}
+
+// Writes energy.png and time.png into `dir` for the given runs; each PNG appears whole.
+std::string plot_into(const fs::path& dir, const std::vector<Series>& runs) {
+  const std::string suffix = ".tmp." + std::to_string(::getpid());
+  const std::vector<std::pair<std::string, std::string>> energy = {
+      {"column('kinetic_energy')", "kinetic"},
+      {"column('potential_energy')", "potential"},
+      {"column('kinetic_energy') + column('potential_energy')", "total"},
+      {"column('energy_dissipated')", "dissipated"}};
+  const std::vector<std::pair<std::string, std::string>> energy_sweep = {
+      {"column('kinetic_energy') + column('potential_energy')", "total"}};
+  const std::vector<std::pair<std::string, std::string>> phases = {
+      {"column('wall_ms')", "frame"},
+      {"column('integrate_ms')", "integrate"},
+      {"column('collisions_ms')", "collisions"},
+      {"column('move_colliders_ms')", "move colliders"},
+      {"column('record_ms')", "record"}};
+  const std::vector<std::pair<std::string, std::string>> phases_sweep = {{"column('wall_ms')", "frame"}};
+  const bool sweep = runs.size() > 1;
+  const std::string energy_png = (dir / "energy.png").string(), time_png = (dir / "time.png").string();
+  const std::string script =
+      plot_commands(energy_png + suffix, "Energy per frame: " + dir.filename().string(), "energy (J)", runs,
+                    sweep ? energy_sweep : energy, false) +
+      plot_commands(time_png + suffix, "Wall time per frame: " + dir.filename().string(), "time (ms)", runs,
+                    sweep ? phases_sweep : phases, true);
+  const std::string script_path = (dir / ("plot.gp" + suffix)).string();
+  write_file_atomically(script_path, [&](std::ostream& out) { out << script; });
+  const std::string error = run_gnuplot(script_path);
+  std::remove(script_path.c_str());
+  for (const std::string& png : {energy_png, time_png}) {
+    if (error.empty() && fs::exists(png + suffix)) {
+      std::error_code ignored;
+      fs::rename(png + suffix, png, ignored);
+      if (ignored) return png + ": cannot rename into place: " + ignored.message();
+    } else {
+      std::remove((png + suffix).c_str());
+    }
+  }
+  return error.empty() && !fs::exists(energy_png) ? "gnuplot wrote no " + energy_png : error;
+}
+
+}  // namespace
+
+int run_plot(const PlotOptions& options) {
+  const fs::path dir(options.dir);
+  std::vector<fs::path> run_dirs;
+  if (fs::exists(dir / "stats.csv")) {
+    run_dirs.push_back(dir);
+  } else if (fs::is_directory(dir)) {
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      if (entry.is_directory() && fs::exists(entry.path() / "stats.csv")) run_dirs.push_back(entry.path());
+    }
+    std::sort(run_dirs.begin(), run_dirs.end());
+  }
+  if (run_dirs.empty()) {
+    std::fprintf(stderr, "weft plot: %s: expected a run folder with stats.csv, or a sweep folder of them\n",
+                 options.dir.c_str());
+    return 2;
+  }
+  try {
+    std::vector<Series> all;
+    for (const fs::path& run : run_dirs) {
+      const Series series{run.filename().string(), (run / "stats.csv").string()};
+      all.push_back(series);
+      if (const std::string error = plot_into(run, {series}); !error.empty()) {
+        std::fprintf(stderr, "weft plot: %s\n", error.c_str());
+        return 4;
+      }
+      std::printf("%s\n%s\n", (run / "energy.png").c_str(), (run / "time.png").c_str());
+    }
+    if (run_dirs.size() > 1 || run_dirs.front() != dir) {
+      if (const std::string error = plot_into(dir, all); !error.empty()) {
+        std::fprintf(stderr, "weft plot: %s\n", error.c_str());
+        return 4;
+      }
+      std::printf("%s\n%s\n", (dir / "energy.png").c_str(), (dir / "time.png").c_str());
+    }
+  } catch (const IoError& error) {
+    std::fprintf(stderr, "weft plot: %s\n", error.what());
+    return 4;
+  }
+  return 0;
+}
+
+}  // namespace weft

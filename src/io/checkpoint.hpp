@@ -1,0 +1,70 @@
+#pragma once
+// Checkpoints: the full state of a run at a frame boundary, so a killed run can resume and
+// produce exactly the frames an uninterrupted run would have.
+//
+// File layout (little-endian), version 2:
+//   char[8] "WEFTCKPT"  uint32 version  uint32 reserved (0)  uint64 payload bytes
+//   payload                                          (below)
+//   uint64 FNV-1a 64-bit hash of the payload
+// payload: string resolved scene JSON, int32 frame, float64 time, float64 initial energy,
+//   uint32 cloth count, per cloth: string name, matrix x, matrix v, matrix rest_positions,
+//     float64 adaptive next_step, int32 accepted, int32 rejected, float64 last_error,
+//     matrix membrane rest (5 x n_triangles: dm_inverse column-major, area; 0 columns when the
+//     membrane is off);
+//   uint32 collider count, per collider: string name, vec3 center, vec3 normal, float64 radius,
+//     vec3 half_extents.
+// string: uint64 length + bytes; matrix: uint64 rows, uint64 cols, rows*cols float64 column-major.
+// Scripted pins need nothing: they follow from the time. Version 1 files (no membrane rest) are
+// refused with the version they hold.
+#include <string>
+#include <vector>
+
+#include "physics/adaptive_stepping.hpp"
+#include "sim/world.hpp"
+
+namespace weft {
+
+inline constexpr unsigned checkpoint_version = 2;
+
+struct ClothCheckpoint {
+  std::string name;
+  Positions x;               // (3 x n_vertices)
+  Positions v;               // (3 x n_vertices)
+  Positions rest_positions;  // (3 x n_vertices)
+  AdaptiveState adaptive;
+  Eigen::MatrixXd membrane_rest;  // (5 x n_triangles): dm_inverse (column-major) and area,
+                                  // which plastic flow changes; 0 columns without a membrane
+};
+
+struct ColliderCheckpoint {
+  std::string name;
+  Vec3 center = Vec3::Zero();
+  Vec3 normal = Vec3::UnitY();
+  double radius = 0.0;
+  Vec3 half_extents = Vec3::Zero();
+};
+
+struct Checkpoint {
+  std::string scene_json;       // the resolved scene the run was started with
+  int frame = 0;                // the last frame written before this checkpoint
+  double time = 0.0;            // s, the world's time at that frame
+  double initial_energy = 0.0;  // J, total energy at frame 0 (stats.csv's energy_dissipated)
+  std::vector<ClothCheckpoint> cloths;
+  std::vector<ColliderCheckpoint> colliders;
+};
+
+Checkpoint capture_checkpoint(const World& world, int frame, const std::string& scene_json,
+                              double initial_energy);
+
+// Puts the checkpoint's state into a world built from the same scene. Throws IoError naming
+// `file` when the world does not match (cloth or collider count, names, vertex counts).
+void restore_checkpoint(const Checkpoint& checkpoint, World& world, const std::string& file);
+
+// Writes atomically (temporary file, then rename). Throws IoError.
+void write_checkpoint(const std::string& path, const Checkpoint& checkpoint);
+
+// Reads and verifies magic, version, size and checksum. Throws IoError naming the file and
+// what is wrong with it.
+Checkpoint read_checkpoint(const std::string& path);
+
+}  // namespace weft

@@ -1,0 +1,46 @@
+#pragma once
+// Sweep files: a scene, common overrides and a grid of overrides whose every combination is one
+// named run (docs/sweeps.md). Read with every field checked, like scene files.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace weft {
+
+struct SlurmSettings {
+  std::string partition;            // #SBATCH --partition (empty: the cluster's default)
+  std::string time = "01:00:00";    // #SBATCH --time, per case
+  std::string memory = "2G";        // #SBATCH --mem, per case
+  int max_parallel = 0;             // #SBATCH --array=...%N (0: no limit)
+  std::vector<std::string> sbatch;  // further "#SBATCH" options, e.g. "--account=cloth"
+};
+
+struct SweepDesc {
+  std::string source_file;     // for error messages
+  std::string name;            // default: the sweep file's stem
+  std::string scene;           // the scene file, resolved against the sweep file's folder
+  std::string out;             // the sweep's folder; each case records into out/CASE (default out/NAME)
+  int frames = -1;             // -1: the scene's
+  int threads = 1;             // solver threads per case
+  int jobs = 0;                // local runs at once (0: cores / threads)
+  int checkpoint_every = 0;    // frames; 0: no checkpoints
+  std::string format = "pc2";  // recording format of each case
+  std::vector<std::string> overrides;  // "set": applied to every case, before the grid's
+  std::vector<std::pair<std::string, std::vector<nlohmann::json>>> grid;  // path -> values, in file order
+  SlurmSettings slurm;
+};
+
+struct SweepCase {
+  std::string name;                    // "002_stiffness-500_mass_damping-0.1"
+  std::vector<std::string> overrides;  // common overrides, then this case's "path=value"s
+};
+
+// Reads a sweep file; throws SceneError naming the file, the JSON path and what was expected.
+SweepDesc load_sweep_file(const std::string& path);
+
+// Every combination of the grid's values (the last key varies fastest), named by index and values.
+std::vector<SweepCase> expand_sweep(const SweepDesc& sweep);
+
+}  // namespace weft

@@ -1,0 +1,35 @@
+#pragma once
+// Preconditioned conjugate gradient for the Newton system H dx = b of implicit Euler, with a
+// block-Jacobi preconditioner: the inverse of each vertex's 3x3 diagonal block of H. Against the
+// scalar (diagonal) Jacobi preconditioner it keeps the coupling between a vertex's x, y and z,
+// which a stretched membrane makes strong. Buffers are sized once; a solve allocates nothing.
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "physics/sparse_hessian.hpp"
+
+namespace weft {
+
+struct ConjugateGradientReport {
+  int iterations = 0;
+  double relative_residual = 0.0;  // |b - H dx| / |b| at exit
+  bool converged = false;          // relative_residual <= tolerance
+};
+
+class ConjugateGradientSolver {
+ public:
+  // Solves hessian * dx = b from dx = 0 until |b - H dx| <= tolerance |b| or max_iterations.
+  // H must be symmetric positive definite (PSD-projected terms plus M / h^2).
+  ConjugateGradientReport solve(const SparseHessian& hessian, const Eigen::VectorXd& b, Eigen::VectorXd& dx,
+                                double tolerance, int max_iterations);
+
+ private:
+  void compute_preconditioner(const SparseHessian& hessian);
+  void apply_preconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z) const;
+
+  std::vector<Mat3> inverse_blocks_;
+  Eigen::VectorXd r_, z_, p_, q_;
+};
+
+}  // namespace weft

@@ -1,0 +1,35 @@
+#pragma once
+// Ray picking of cloth vertices under the mouse. Plain math, no OpenGL.
+#include <optional>
+#include <vector>
+
+#include "core/math.hpp"
+#include "physics/cloth.hpp"
+#include "render/orbit_camera.hpp"
+
+namespace weft {
+
+struct Ray {
+  Vec3 origin;
+  Vec3 direction;  // unit
+};
+
+// The ray from the eye through a point of the viewport in normalised device coordinates
+// (x right, y up, both in [-1, 1]) for a viewport of aspect width / height.
+Ray camera_ray(const OrbitCamera& camera, double aspect, double ndc_x, double ndc_y);
+
+struct VertexPick {
+  int cloth = -1;
+  int vertex = -1;
+  double distance = 0.0;  // m along the ray to the hit point on the surface
+  Vec3 hit = Vec3::Zero();
+};
+
+// The nearest cloth triangle the ray crosses (either side), and its corner nearest the hit point.
+std::optional<VertexPick> pick_vertex(const std::vector<Cloth>& cloths, const Ray& ray);
+
+// Where the ray meets the plane through `point` facing the camera's view direction: the drag target
+// that keeps a grabbed vertex at its depth.
+Vec3 point_on_view_plane(const Ray& ray, const Vec3& point, const Vec3& view_direction);
+
+}  // namespace weft

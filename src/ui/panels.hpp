@@ -1,0 +1,21 @@
+#pragma once
+// The viewer's Dear ImGui windows. Call between ImGui::NewFrame() and ImGui::Render().
+#include "ui/simulation_session.hpp"
+#include "ui/viewer_state.hpp"
+
+namespace weft {
+
+// Play, pause, step, reset, speed, the scene picker and any error.
+void draw_simulation_panel(SimulationSession& session, ViewerState& state);
+// Integrator, time step, sub-steps, Newton and adaptive-stepping settings, applied live.
+void draw_solver_panel(SimulationSession& session);
+// Springs, damping, density, thickness, friction, applied live.
+void draw_material_panel(SimulationSession& session);
+// Bounding boxes, contacts, pause on first contact, display options, shader reload.
+void draw_debug_panel(SimulationSession& session, ViewerState& state);
+// Energies, time per phase and Newton iterations over the last frames.
+void draw_plots_panel(const ViewerState& state);
+// One line at the bottom: sizes, contacts, ms per step by phase, frames per second, real-time factor.
+void draw_status_line(const SimulationSession& session, const ViewerState& state);
+
+}  // namespace weft

@@ -1,0 +1,39 @@
+#include <imgui.h>
+
+#include "ui/panels.hpp"
+
+namespace weft {
+
+void draw_status_line(const SimulationSession& session, const ViewerState& state) {
+  const ImGuiViewport* viewport = ImGui::GetMainViewport();
+  const float height = ImGui::GetFrameHeight() + 2.0f * ImGui::GetStyle().WindowPadding.y;
+  ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x, viewport->WorkPos.y + viewport->WorkSize.y - height));
+  ImGui::SetNextWindowSize(ImVec2(viewport->WorkSize.x, height));
+  ImGui::SetNextWindowBgAlpha(0.6f);
+  const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
+                                 ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
+                                 ImGuiWindowFlags_NoNav;
+  if (ImGui::Begin("##status", nullptr, flags)) {
+    const World& world = session.world();
+    int vertices = 0, triangles = 0;
+    for (const Cloth& cloth : world.cloths()) {
+      vertices += cloth.num_vertices();
+      triangles += static_cast<int>(cloth.model.triangles.cols());
+    }
+    const StepStats& stats = world.last_step_stats();
+    ImGui::Text("%d vertices, %d triangles | %d contacts | step %.2f ms (colliders %.2f, integrate %.2f, "
+                "collisions %.2f) | %.0f fps | %.2fx real time",
+                vertices, triangles, stats.contacts, stats.total_ms, stats.move_colliders_ms, stats.integrate_ms,
+                stats.collisions_ms, state.frames_per_second, state.real_time_factor);
+    if (state.hover.valid) {
+      const Cloth& cloth = world.cloths()[static_cast<size_t>(state.hover.cloth)];
+      const int v = state.hover.vertex;
+      ImGui::SameLine();
+      ImGui::Text("| cloth %d vertex %d%s", state.hover.cloth, v,
+                  cloth.model.inverse_mass[v] == 0.0 ? " (pinned)" : "");
+    }
+  }
+  ImGui::End();
+}
+
+}  // namespace weft

@@ -1,0 +1,39 @@
+#pragma once
+// What the viewer's panels edit and show besides the SimulationSession: display options, playback
+// speed, debugging switches, the plot history and the frame's measurements. No ImGui here.
+#include <string>
+#include <vector>
+
+#include "render/world_view.hpp"
+#include "ui/stats_history.hpp"
+
+namespace weft {
+
+struct HoverInfo {
+  bool valid = false;
+  int cloth = -1;
+  int vertex = -1;
+};
+
+struct ViewerState {
+  ViewOptions view;
+  double speed = 1.0;              // simulated seconds per wall second while playing
+  double step_budget_ms = 30.0;    // wall time the simulation may take per drawn frame
+  std::vector<std::string> scene_files;  // the scene picker's list
+  std::string shader_message;      // the last shader reload's error, empty if it worked
+
+  // Requests from the panels, handled by the viewer loop.
+  bool reload_shaders = false;
+  bool save_screenshot = false;
+  bool record_frames = false;      // save every drawn frame as a PNG
+  bool panels_in_pictures = false; // saved pictures include the ImGui panels
+
+  // Measurements of the current frame, for the status line.
+  StatsHistory history;
+  double frames_per_second = 0.0;
+  double real_time_factor = 0.0;   // simulated seconds per wall second, smoothed
+  HoverInfo hover;
+  std::string last_saved;          // the last screenshot written
+};
+
+}  // namespace weft

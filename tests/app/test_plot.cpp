@@ -1,0 +1,50 @@
+// `weft plot DIR` writes energy.png and time.png with gnuplot (skipped where gnuplot is missing).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "support/files.hpp"
+#include "support/run_program.hpp"
+#include "support/temp_dir.hpp"
+
+namespace weft {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace weft::testing;
+
+const std::string weft_program = WEFT_EXECUTABLE;
+const std::string drape_scene = std::string(WEFT_SOURCE_DIR) + "/scenes/drape_sphere.json";
+
+bool is_png(const fs::path& path) {
+  const std::string bytes = read_bytes(path);
+  return bytes.size() > 1000 && bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0;
+}
+
+TEST(Plot, WritesEnergyAndTimePngs) {
+  if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) GTEST_SKIP() << "gnuplot is not installed";
+  TempDir dir("weft_plot");
+  const fs::path out = dir.path() / "run";
+  ASSERT_EQ(run_program({weft_program, "--headless", drape_scene, "--out", out.string(), "--quiet",
+                         "--frames", "5", "--set", "cloths.0.grid.resolution=[8,8]"},
+                        dir.file("run.txt"))
+                .exit_code,
+            0);
+  const auto result = run_program({weft_program, "plot", out.string()}, dir.file("plot.txt"));
+  ASSERT_EQ(result.exit_code, 0) << result.error_text;
+  EXPECT_TRUE(is_png(out / "energy.png"));
+  EXPECT_TRUE(is_png(out / "time.png"));
+  EXPECT_FALSE(has_temporary_files(out));
+}
+
+TEST(Plot, AFolderWithoutStatsIsAnError) {
+  TempDir dir("weft_plot_empty");
+  const auto result = run_program({weft_program, "plot", dir.path().string()}, dir.file("plot.txt"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.error_text.find("expected a run folder with stats.csv"), std::string::npos)
+      << result.error_text;
+}
+
+}  // namespace
+}  // namespace weft

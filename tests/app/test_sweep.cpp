@@ -1,0 +1,190 @@
+// `weft sweep`: a 2 x 2 grid over drape_sphere runs locally on a bounded pool (one progress line
+// per run), and as a SLURM array script that passes `bash -n` and runs its cases locally with
+// SLURM_ARRAY_TASK_ID set, giving the same recordings.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "support/files.hpp"
+#include "support/run_program.hpp"
+#include "support/temp_dir.hpp"
+
+namespace weft {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace weft::testing;
+
+const std::string weft_program = WEFT_EXECUTABLE;
+const std::string source_dir = WEFT_SOURCE_DIR;
+
+std::string write_sweep(const TempDir& dir) {
+  const std::string path = dir.file("drape.json");
+  std::ofstream(path) << R"({
+    "scene": ")" << source_dir
+                      << R"(/scenes/drape_sphere.json",
+    "frames": 4,
+    "set": ["cloths.0.grid.resolution=[8,8]"],
+    "grid": {"cloths.0.springs.structural.stiffness": [300, 600],
+             "cloths.0.mass_damping": [0.1, 0.4]},
+    "slurm": {"time": "00:10:00", "max_parallel": 2, "sbatch": ["--account=cloth"]}
+  })";
+  return path;
+}
+
+const std::vector<std::string> case_names = {
+    "000_stiffness-300_mass_damping-0.1", "001_stiffness-300_mass_damping-0.4",
+    "002_stiffness-600_mass_damping-0.1", "003_stiffness-600_mass_damping-0.4"};
+
+int count(const std::string& text, const std::string& piece) {
+  int n = 0;
+  for (size_t at = text.find(piece); at != std::string::npos; at = text.find(piece, at + 1)) ++n;
+  return n;
+}
+
+TEST(Sweep, RunsEveryCaseLocallyWithAProgressLineEach) {
+  TempDir dir("weft_sweep_local");
+  const fs::path out = dir.path() / "sweep";
+  const auto result = run_program(
+      {weft_program, "sweep", write_sweep(dir), "--out", out.string(), "--jobs", "2"}, dir.file("log.txt"));
+  ASSERT_EQ(result.exit_code, 0) << result.error_text;
+  EXPECT_EQ(count(result.error_text, " complete in "), 4) << result.error_text;
+  EXPECT_NE(result.error_text.find("[4/4]"), std::string::npos) << result.error_text;
+  for (const std::string& name : case_names) {
+    const auto run = read_json(out / name / "run.json");
+    EXPECT_EQ(run["status"], "complete") << name;
+    EXPECT_EQ(run["scene"]["frames"], 4) << name;
+    EXPECT_TRUE(fs::exists(out / name / "cloth.pc2")) << name;
+  }
+  EXPECT_EQ(read_json(out / "002_stiffness-600_mass_damping-0.1" /
+                      "run.json")["scene"]["cloths"][0]["springs"]["structural"]["stiffness"],
+            600.0);
+  EXPECT_EQ(read_json(out / "sweep.json")["cases"].size(), 4u);
+  // Different parameters, different motion.
+  EXPECT_NE(read_bytes(out / case_names[0] / "cloth.pc2"), read_bytes(out / case_names[3] / "cloth.pc2"));
+
+  // Again: complete cases are not run twice.
+  const auto again =
+      run_program({weft_program, "sweep", write_sweep(dir), "--out", out.string()}, dir.file("again.txt"));
+  EXPECT_EQ(again.exit_code, 0) << again.error_text;
+  EXPECT_EQ(count(again.error_text, "already complete"), 4) << again.error_text;
+}
+
+TEST(Sweep, SlurmScriptPassesBashCheckAndRunsArrayCasesLocally) {
+  TempDir dir("weft_sweep_slurm");
+  const fs::path out = dir.path() / "sweep";
+  const auto written = run_program(
+      {weft_program, "sweep", write_sweep(dir), "--out", out.string(), "--slurm"}, dir.file("log.txt"));
+  ASSERT_EQ(written.exit_code, 0) << written.error_text;
+  const fs::path script = out / "drape.sbatch";
+  ASSERT_TRUE(fs::exists(script));
+  const std::string text = read_bytes(script);
+  EXPECT_NE(text.find("#SBATCH --array=0-3%2\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("#SBATCH --time=00:10:00\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("#SBATCH --account=cloth\n"), std::string::npos) << text;
+  EXPECT_TRUE(fs::is_directory(out / "logs"));
+  // Nothing ran.
+  EXPECT_FALSE(fs::exists(out / case_names[0]));
+
+  EXPECT_EQ(run_program({"/bin/bash", "-n", script.string()}, dir.file("syntax.txt")).exit_code, 0);
+
+  for (const int index : {1, 2}) {
+    const auto result = run_program(
+        {"/usr/bin/env", "SLURM_ARRAY_TASK_ID=" + std::to_string(index), "/bin/bash", script.string()},
+        dir.file("case.txt"));
+    ASSERT_EQ(result.exit_code, 0) << result.error_text;
+    EXPECT_EQ(read_json(out / case_names[index] / "run.json")["status"], "complete");
+  }
+  EXPECT_FALSE(fs::exists(out / case_names[0]));
+
+  // The array case records exactly what the local sweep records for the same case.
+  const fs::path local = dir.path() / "local";
+  ASSERT_EQ(run_program({weft_program, "sweep", write_sweep(dir), "--out", local.string()}, dir.file("l.txt"))
+                .exit_code,
+            0);
+  EXPECT_EQ(read_bytes(out / case_names[2] / "cloth.pc2"), read_bytes(local / case_names[2] / "cloth.pc2"));
+
+  // An index past the cases, or none, is an error.
+  auto result =
+      run_program({"/usr/bin/env", "SLURM_ARRAY_TASK_ID=7", "/bin/bash", script.string()}, dir.file("x.txt"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.error_text.find("no case 7"), std::string::npos) << result.error_text;
+  result = run_program({"/usr/bin/env", "-u", "SLURM_ARRAY_TASK_ID", "/bin/bash", script.string()},
+                       dir.file("y.txt"));
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.error_text.find("SLURM_ARRAY_TASK_ID"), std::string::npos) << result.error_text;
+}
+
+// SIGTERM to the sweep alone (a batch system stopping the job's main process) reaches the
+// running cases: each stops after a whole frame with a checkpoint, and a second sweep resumes.
+TEST(Sweep, StopIsPassedToRunningCasesWhichResumeOnTheNextSweep) {
+  TempDir dir("weft_sweep_stop");
+  const std::string path = dir.file("long.json");
+  std::ofstream(path) << R"({"scene": ")" << source_dir << R"(/scenes/drape_sphere.json", "frames": 100000,
+    "checkpoint_every": 1, "set": ["cloths.0.grid.resolution=[6,6]"],
+    "grid": {"cloths.0.mass_damping": [0.1, 0.2]}})";
+  const fs::path out = dir.path() / "out";
+  const std::string log = dir.file("log.txt");
+  const pid_t pid = start_program({weft_program, "sweep", path, "--out", out.string(), "--jobs", "2"}, log);
+  ASSERT_GT(pid, 0);
+  const std::vector<std::string> names = {"000_mass_damping-0.1", "001_mass_damping-0.2"};
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!(fs::exists(out / names[0] / "checkpoint.bin") && fs::exists(out / names[1] / "checkpoint.bin")) &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_TRUE(fs::exists(out / names[1] / "checkpoint.bin"));
+  kill(pid, SIGTERM);
+  const auto result = wait_program(pid, log);
+  EXPECT_EQ(result.exit_code, 130) << result.error_text;
+  for (const std::string& name : names) {
+    EXPECT_EQ(read_json(out / name / "run.json")["status"], "interrupted") << name;
+  }
+  EXPECT_NE(result.error_text.find("interrupted"), std::string::npos) << result.error_text;
+
+  // The same sweep asking for a few frames more than were written: both cases resume from their
+  // checkpoints (not from frame 0) and finish.
+  int stopped_at = 0;
+  for (const std::string& name : names) {
+    stopped_at = std::max(stopped_at, read_json(out / name / "run.json")["frames_written"].get<int>());
+  }
+  const int frames = stopped_at + 3;
+  std::ofstream(path) << R"({"scene": ")" << source_dir << R"(/scenes/drape_sphere.json", "frames": )"
+                      << frames << R"(, "checkpoint_every": 1, "set": ["cloths.0.grid.resolution=[6,6]"],
+    "grid": {"cloths.0.mass_damping": [0.1, 0.2]}})";
+  const auto again = run_program({weft_program, "sweep", path, "--out", out.string()}, dir.file("again.txt"));
+  ASSERT_EQ(again.exit_code, 0) << again.error_text;
+  for (const std::string& name : names) {
+    EXPECT_EQ(read_json(out / name / "run.json")["status"], "complete") << name;
+    EXPECT_EQ(read_json(out / name / "summary.json")["frames_written"], frames + 1) << name;
+  }
+  EXPECT_EQ(count(again.error_text, "complete in"), 2) << again.error_text;
+  EXPECT_EQ(count(again.error_text, "(resumed from its checkpoint)"), 2) << again.error_text;
+}
+
+TEST(Sweep, BadSweepOrCaseIsRefusedBeforeAnythingRuns) {
+  TempDir dir("weft_sweep_bad");
+  const std::string path = dir.file("bad.json");
+  std::ofstream(path) << R"({"scene": ")" << source_dir
+                      << R"(/scenes/drape_sphere.json", "grid": {"solver.time_step": [0.001, -1]}})";
+  const fs::path out = dir.path() / "out";
+  auto result = run_program({weft_program, "sweep", path, "--out", out.string()}, dir.file("log.txt"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.error_text.find("bad.json: /grid: case 001_time_step--1"), std::string::npos)
+      << result.error_text;
+  EXPECT_NE(result.error_text.find("/solver/time_step: expected a number > 0"), std::string::npos)
+      << result.error_text;
+  EXPECT_FALSE(fs::exists(out));
+
+  result = run_program({weft_program, "sweep", dir.file("none.json")}, dir.file("log2.txt"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.error_text.find("none.json"), std::string::npos) << result.error_text;
+}
+
+}  // namespace
+}  // namespace weft

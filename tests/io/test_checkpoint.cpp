@@ -1,0 +1,187 @@
+// Checkpoints: a world restored from one continues bit-identically; corrupt, cut-short, foreign
+// and mismatched checkpoints are refused with the file and the reason.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.hpp"
+#include "io/checkpoint.hpp"
+#include "io/scene_builder.hpp"
+#include "io/scene_file.hpp"
+#include "support/temp_dir.hpp"
+
+namespace weft {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::TempDir;
+
+World small_world(const std::string& integrator, bool adaptive, int resolution = 6) {
+  const auto document = nlohmann::json::parse(
+      R"({
+    "solver": {"time_step": 0.002, "integrator": ")" +
+      integrator + R"(", "adaptive": {"enabled": )" + (adaptive ? "true" : "false") + R"(}},
+    "cloths": [{"name": "sheet", "grid": {"size": [1, 1], "resolution": [)" +
+      std::to_string(resolution) + "," + std::to_string(resolution) + R"(]},
+                "transform": {"translation": [0, 0.7, 0], "rotation_degrees": [-90, 0, 0]},
+                "pins": {"corners": ["top_left"]}}],
+    "colliders": [{"type": "sphere", "name": "ball", "radius": 0.3}]
+  })");
+  return build_world(parse_scene(document, "<inline>"));
+}
+
+std::string error_of(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const IoError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+class CheckpointRoundTrip : public ::testing::TestWithParam<std::pair<std::string, bool>> {};
+
+TEST_P(CheckpointRoundTrip, RestoredWorldContinuesBitIdentically) {
+  const auto [integrator, adaptive] = GetParam();
+  TempDir dir("weft_checkpoint");
+  World original = small_world(integrator, adaptive);
+  for (int step = 0; step < 40; ++step) original.step();
+  write_checkpoint(dir.file("checkpoint.bin"), capture_checkpoint(original, 7, "{\"name\": \"x\"}", 1.25));
+
+  const Checkpoint read = read_checkpoint(dir.file("checkpoint.bin"));
+  EXPECT_EQ(read.frame, 7);
+  EXPECT_EQ(read.scene_json, "{\"name\": \"x\"}");
+  EXPECT_EQ(read.initial_energy, 1.25);
+  EXPECT_EQ(read.time, original.time());
+  World resumed = small_world(integrator, adaptive);
+  restore_checkpoint(read, resumed, "checkpoint.bin");
+  EXPECT_EQ(resumed.time(), original.time());
+
+  for (int step = 0; step < 40; ++step) {
+    original.step();
+    resumed.step();
+  }
+  EXPECT_EQ(resumed.time(), original.time());
+  // Bit-identical, not merely close.
+  EXPECT_TRUE(resumed.cloths()[0].state.x == original.cloths()[0].state.x);
+  EXPECT_TRUE(resumed.cloths()[0].state.v == original.cloths()[0].state.v);
+  EXPECT_EQ(resumed.adaptive_state(0).accepted, original.adaptive_state(0).accepted);
+}
+
+INSTANTIATE_TEST_SUITE_P(Integrators, CheckpointRoundTrip,
+                         ::testing::Values(std::make_pair(std::string("symplectic_euler"), false),
+                                           std::make_pair(std::string("midpoint"), true),
+                                           std::make_pair(std::string("implicit_euler"), false)));
+
+// A stretched membrane with plastic yield: its rest shapes flow during the run, and a world
+// restored from a checkpoint must carry the flowed shapes, not the scene's.
+World plastic_world() {
+  const auto document = nlohmann::json::parse(R"({
+    "solver": {"time_step": 0.002, "integrator": "implicit_euler"},
+    "cloths": [{"name": "sheet", "grid": {"size": [1, 1], "resolution": [5, 5]},
+                "membrane": {"young_modulus": 2000, "yield_strain": 0.01, "plastic_flow": 0.5},
+                "density": 2.0,
+                "pins": {"edges": ["top"]}}]
+  })");
+  return build_world(parse_scene(document, "<inline>"));
+}
+
+TEST(Checkpoint, PlasticRestShapesAreRestoredAndTheRunContinuesBitIdentically) {
+  TempDir dir("weft_checkpoint_plastic");
+  World original = plastic_world();
+  int yielded = 0;
+  for (int step = 0; step < 30; ++step) {
+    original.step();
+    yielded += original.last_step_stats().yielded_triangles;
+  }
+  ASSERT_GT(yielded, 0) << "the test needs a scene that yields";
+  write_checkpoint(dir.file("checkpoint.bin"), capture_checkpoint(original, 1, "{}", 0.0));
+
+  World resumed = plastic_world();
+  const std::vector<MembraneRest> scene_rest = resumed.cloths()[0].model.membrane.rest;
+  restore_checkpoint(read_checkpoint(dir.file("checkpoint.bin")), resumed, "checkpoint.bin");
+  const auto& restored_rest = resumed.cloths()[0].model.membrane.rest;
+  const auto& original_rest = original.cloths()[0].model.membrane.rest;
+  ASSERT_EQ(restored_rest.size(), original_rest.size());
+  bool any_flowed = false;
+  for (size_t t = 0; t < original_rest.size(); ++t) {
+    EXPECT_TRUE(restored_rest[t].dm_inverse == original_rest[t].dm_inverse) << "triangle " << t;
+    EXPECT_EQ(restored_rest[t].area, original_rest[t].area) << "triangle " << t;
+  }
+  for (size_t t = 0; t < original_rest.size(); ++t) {
+    any_flowed = any_flowed || original_rest[t].dm_inverse != scene_rest[t].dm_inverse;
+  }
+  EXPECT_TRUE(any_flowed) << "restoring must change the scene's rest shapes";
+
+  for (int step = 0; step < 30; ++step) {
+    original.step();
+    resumed.step();
+  }
+  EXPECT_TRUE(resumed.cloths()[0].state.x == original.cloths()[0].state.x);
+  EXPECT_TRUE(resumed.cloths()[0].state.v == original.cloths()[0].state.v);
+}
+
+TEST(Checkpoint, KeepsRestPositionsAndColliders) {
+  TempDir dir("weft_checkpoint_rest");
+  World world = small_world("symplectic_euler", false);
+  world.cloths()[0].model.rest_positions(1, 3) += 0.01;  // as plasticity would
+  world.colliders()[0].center = Vec3(0.1, 0.2, 0.3);
+  write_checkpoint(dir.file("c.bin"), capture_checkpoint(world, 1, "{}", 0.0));
+  World fresh = small_world("symplectic_euler", false);
+  restore_checkpoint(read_checkpoint(dir.file("c.bin")), fresh, "c.bin");
+  EXPECT_TRUE(fresh.cloths()[0].model.rest_positions == world.cloths()[0].model.rest_positions);
+  EXPECT_EQ(fresh.colliders()[0].center, Vec3(0.1, 0.2, 0.3));
+}
+
+TEST(Checkpoint, CorruptOrForeignFilesAreRefused) {
+  TempDir dir("weft_checkpoint_bad");
+  const std::string path = dir.file("checkpoint.bin");
+  write_checkpoint(path, capture_checkpoint(small_world("symplectic_euler", false), 3, "{}", 0.0));
+  const auto size = fs::file_size(path);
+
+  // One flipped byte in the middle of the state.
+  {
+    std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(static_cast<std::streamoff>(size / 2));
+    file.put('\x55');
+  }
+  EXPECT_NE(error_of([&] { read_checkpoint(path); }).find("checkpoint.bin: checkpoint checksum: mismatch"),
+            std::string::npos);
+
+  // Cut short, as by a full disk.
+  write_checkpoint(path, capture_checkpoint(small_world("symplectic_euler", false), 3, "{}", 0.0));
+  fs::resize_file(path, size - 100);
+  EXPECT_NE(error_of([&] { read_checkpoint(path); }).find("checkpoint size"), std::string::npos);
+
+  // Another version.
+  write_checkpoint(path, capture_checkpoint(small_world("symplectic_euler", false), 3, "{}", 0.0));
+  {
+    std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(8);
+    file.put('\x09');
+  }
+  EXPECT_NE(error_of([&] {
+              read_checkpoint(path);
+            }).find("checkpoint version: expected " + std::to_string(checkpoint_version) + ", got 9"),
+            std::string::npos);
+
+  std::ofstream(dir.file("text.bin")) << "hello, not a checkpoint at all";
+  EXPECT_NE(error_of([&] { read_checkpoint(dir.file("text.bin")); }).find("not a Weft checkpoint"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { read_checkpoint(dir.file("none.bin")); }).find("none.bin: cannot open"),
+            std::string::npos);
+}
+
+TEST(Checkpoint, RestoringIntoADifferentWorldIsRefused) {
+  const Checkpoint checkpoint = capture_checkpoint(small_world("symplectic_euler", false, 6), 3, "{}", 0.0);
+  World other = small_world("symplectic_euler", false, 7);
+  const std::string message = error_of([&] { restore_checkpoint(checkpoint, other, "ck.bin"); });
+  EXPECT_NE(message.find(
+                "ck.bin: checkpoint cloth 0 (\"sheet\", 36 vertices, 0 membrane triangles) does not match"),
+            std::string::npos)
+      << message;
+}
+
+}  // namespace
+}  // namespace weft

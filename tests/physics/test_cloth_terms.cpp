@@ -1,0 +1,166 @@
+// Taylor tests of a whole cloth with every term on at once: the assembled gradient against the
+// summed energy, and the assembled (unprojected) sparse Hessian against the gradient, so the
+// per-term kernels, the stencils and the assembly are checked together. Also: the projected
+// Hessian is positive semi-definite, and the drag and spring-damping dissipation potential's
+// derivatives are right.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include <Eigen/Eigenvalues>
+#include <nlohmann/json.hpp>
+
+#include "io/scene_builder.hpp"
+#include "io/scene_file.hpp"
+#include "physics/cloth_terms.hpp"
+#include "sim/world.hpp"
+
+namespace weft {
+namespace {
+
+// A 5x5 grid with springs (and their damping), a plain StVK membrane (compression factor 1,
+// so the energy is C2 and the Hessian test is exact), hinge bending and air drag.
+ClothModel every_term_model() {
+  const auto document = nlohmann::json::parse(R"({
+    "wind": [0.3, -0.2, 1.0],
+    "cloths": [{
+      "grid": {"size": [1, 0.8], "resolution": [5, 5], "triangulation": "alternating"},
+      "density": 0.3,
+      "springs": {"structural": {"stiffness": 40, "damping": 0.3},
+                  "shear": {"stiffness": 20, "damping": 0.1},
+                  "bend": {"stiffness": 5, "damping": 0.05}},
+      "membrane": {"young_modulus": 1e4, "poisson_ratio": 0.3, "thickness": 1e-3, "compression_factor": 1},
+      "bending": {"stiffness": 1e-2},
+      "air_drag": {"normal": 2.0, "tangential": 0.5}
+    }]
+  })");
+  World world = build_world(parse_scene(document, "<inline>"));
+  return world.cloths()[0].model;
+}
+
+Positions perturbed(const Positions& x, double amplitude, std::mt19937& rng) {
+  std::normal_distribution<double> noise(0.0, amplitude);
+  Positions y = x;
+  for (Eigen::Index k = 0; k < y.size(); ++k) y.data()[k] += noise(rng);
+  return y;
+}
+
+double dot(const Positions& a, const Positions& b) { return (a.array() * b.array()).sum(); }
+
+Positions times(const SparseHessian& hessian, const Positions& d) {
+  Positions out(3, d.cols());
+  Eigen::Map<Eigen::VectorXd>(out.data(), out.size()) =
+      hessian.matrix() * Eigen::Map<const Eigen::VectorXd>(d.data(), d.size());
+  return out;
+}
+
+// Ratios r(eps/2)/r(eps) of the first-order remainders over `halvings` halvings from eps0.
+template <class Remainder>
+void expect_second_order(Remainder remainder, double eps0, const char* what) {
+  double previous = remainder(eps0);
+  for (int k = 1; k <= 4; ++k) {
+    const double eps = eps0 / std::pow(2.0, k);
+    const double current = remainder(eps);
+    EXPECT_NEAR(current / previous, 0.25, 0.03) << what << " at halving " << k << " (" << current << " / " << previous << ")";
+    previous = current;
+  }
+}
+
+TEST(ClothTerms, AssembledPotentialGradientAndHessianTaylorTest) {
+  const ClothModel model = every_term_model();
+  ASSERT_TRUE(model.membrane.enabled());
+  ASSERT_TRUE(model.bending.enabled());
+  ASSERT_GT(model.springs.size(), 0);
+  const Vec3 gravity(0.0, -9.81, 0.0);
+  SparseHessian hessian;
+  HessianStencils stencils;
+  prepare_hessian(model, hessian, stencils);
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 3; ++trial) {
+    const Positions x = perturbed(model.rest_positions, 0.03, rng);
+    const Positions d = perturbed(Positions::Zero(3, x.cols()), 1.0, rng);
+    Positions gradient = Positions::Zero(3, x.cols());
+    hessian.set_zero();
+    const double energy = evaluate_potential(model, gravity, x, &gradient, &hessian, stencils, /*project=*/false);
+    hessian.finish_assembly();
+    const Positions hd = times(hessian, d);
+    expect_second_order(
+        [&](double eps) {
+          const Positions y = x + eps * d;
+          return std::abs(evaluate_potential(model, gravity, y, nullptr, nullptr, stencils, false) - energy -
+                          eps * dot(gradient, d));
+        },
+        1e-2, "energy against gradient");
+    expect_second_order(
+        [&](double eps) {
+          Positions g = Positions::Zero(3, x.cols());
+          evaluate_potential(model, gravity, x + eps * d, &g, nullptr, stencils, false);
+          return (g - gradient - eps * hd).norm();
+        },
+        1e-2, "gradient against Hessian");
+  }
+}
+
+TEST(ClothTerms, DissipationPotentialTaylorTestAndDampingForce) {
+  const ClothModel model = every_term_model();
+  SparseHessian hessian;
+  HessianStencils stencils;
+  prepare_hessian(model, hessian, stencils);
+  std::mt19937 rng(9);
+  const double h = 0.01;
+  const Positions x_start = perturbed(model.rest_positions, 0.03, rng);
+  const Positions x = x_start + h * perturbed(Positions::Zero(3, x_start.cols()), 0.5, rng);
+  const Positions d = perturbed(Positions::Zero(3, x.cols()), 1.0, rng);
+  Positions gradient = Positions::Zero(3, x.cols());
+  hessian.set_zero();
+  const double dissipation = evaluate_dissipation(model, x_start, x, h, &gradient, &hessian, stencils);
+  hessian.finish_assembly();
+  EXPECT_GT(dissipation, 0.0);
+  const Positions hd = times(hessian, d);
+  expect_second_order(
+      [&](double eps) {
+        return std::abs(evaluate_dissipation(model, x_start, x + eps * d, h, nullptr, nullptr, stencils) -
+                        dissipation - eps * dot(gradient, d));
+      },
+      1e-3, "dissipation against its gradient");
+  // With the spring directions and triangle normals taken at x_start the dissipation potential
+  // is exactly quadratic in x, so the Hessian's remainder is round-off, not O(eps^2).
+  for (double eps : {1e-1, 1e-2, 1e-3}) {
+    Positions g = Positions::Zero(3, x.cols());
+    evaluate_dissipation(model, x_start, x + eps * d, h, &g, nullptr, stencils);
+    EXPECT_LT((g - gradient - eps * hd).norm(), 1e-9 * (eps * hd).norm()) << "eps " << eps;
+  }
+  // Its gradient is minus the damping and drag force at v = (x - x_start) / h. The wind's share
+  // of the drag is there at v = 0 too, so compare the change from v = 0.
+  Positions gradient_at_rest = Positions::Zero(3, x.cols());
+  evaluate_dissipation(model, x_start, x_start, h, &gradient_at_rest, nullptr, stencils);
+  Positions force = Positions::Zero(3, x.cols()), force_at_rest = Positions::Zero(3, x.cols());
+  compute_forces(model, Vec3::Zero(), x_start, (x - x_start) / h, force);
+  compute_forces(model, Vec3::Zero(), x_start, Positions::Zero(3, x.cols()), force_at_rest);
+  const Positions damping_force = force - force_at_rest;
+  EXPECT_GT(damping_force.norm(), 0.0);
+  EXPECT_LT((gradient - gradient_at_rest + damping_force).norm(), 1e-9 * damping_force.norm());
+  EXPECT_GT(gradient_at_rest.norm(), 0.0);  // the wind pushes a cloth at rest
+}
+
+TEST(ClothTerms, ProjectedHessianIsSymmetricPositiveSemiDefinite) {
+  const ClothModel model = every_term_model();
+  SparseHessian hessian;
+  HessianStencils stencils;
+  prepare_hessian(model, hessian, stencils);
+  std::mt19937 rng(17);
+  for (int trial = 0; trial < 3; ++trial) {
+    const Positions x = perturbed(model.rest_positions, 0.1, rng);  // large: compressed and folded elements
+    hessian.set_zero();
+    evaluate_potential(model, Vec3::Zero(), x, nullptr, &hessian, stencils, /*project=*/true);
+    hessian.finish_assembly();
+    const Eigen::MatrixXd dense = Eigen::MatrixXd(hessian.matrix());
+    EXPECT_LT((dense - dense.transpose()).norm(), 1e-12 * dense.norm());
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(dense);
+    EXPECT_GT(eigen.eigenvalues().minCoeff(), -1e-9 * eigen.eigenvalues().maxCoeff());
+  }
+}
+
+}  // namespace
+}  // namespace weft
