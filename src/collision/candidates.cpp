@@ -1,6 +1,8 @@
 #include "collision/candidates.hpp"
 
 #include <algorithm>
+#include <array>
+#include <limits>
 
 namespace weft {
 
@@ -16,6 +18,31 @@ void sort_and_deduplicate(std::vector<T>& items) {
   items.erase(std::unique(items.begin(), items.end()), items.end());
 }
 
+struct Box {
+  Vec3 lower = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 upper = Vec3::Constant(-std::numeric_limits<double>::infinity());
+};
+
+// The swept box of combined vertices `vertices`; an unbounded one when there are no boxes.
+template <int N>
+Box box_of(const SweptVertexBoxes* boxes, const std::array<int, N>& vertices) {
+  Box box;
+  if (!boxes) {
+    box.lower = -box.lower;
+    box.upper = -box.upper;
+    return box;
+  }
+  for (const int v : vertices) {
+    box.lower = box.lower.cwiseMin(boxes->lower.col(v));
+    box.upper = box.upper.cwiseMax(boxes->upper.col(v));
+  }
+  return box;
+}
+
+bool within_gap(const Box& a, const Box& b, double gap) {
+  return (a.lower.array() <= b.upper.array() + gap).all() && (b.lower.array() <= a.upper.array() + gap).all();
+}
+
 // Appends the candidates of triangle s of `first` against triangle t of `second`. With `self`
 // the two are one mesh and corners or edge ends they share are skipped.
 template <bool self>
@@ -23,29 +50,37 @@ void append_pair_candidates(int s, int t, const CandidateMesh& first, const Cand
                             CollisionCandidates& candidates) {
   const Triangles& triangles_s = first.triangles;
   const Triangles& triangles_t = second.triangles;
+  const SweptVertexBoxes* boxes = first.boxes;
+  const double gap = boxes ? boxes->gap : 0.0;
+  const int vs = first.offsets.vertex;
+  const int vt = second.offsets.vertex;
+  const Box box_s = box_of<3>(boxes, {vs + triangles_s(0, s), vs + triangles_s(1, s), vs + triangles_s(2, s)});
+  const Box box_t = box_of<3>(boxes, {vt + triangles_t(0, t), vt + triangles_t(1, t), vt + triangles_t(2, t)});
 
   // Vertex-face: each corner of one triangle against the other triangle.
   for (int k = 0; k < 3; ++k) {
     const int v = triangles_s(k, s);
-    if (!self || !has_corner(triangles_t, t, v)) {
-      candidates.vertex_face.push_back({first.offsets.vertex + v, second.offsets.triangle + t});
+    if ((!self || !has_corner(triangles_t, t, v)) &&
+        within_gap(box_of<1>(boxes, {vs + v}), box_t, gap)) {
+      candidates.vertex_face.push_back({vs + v, second.offsets.triangle + t});
     }
     const int w = triangles_t(k, t);
-    if (!self || !has_corner(triangles_s, s, w)) {
-      candidates.vertex_face.push_back({second.offsets.vertex + w, first.offsets.triangle + s});
+    if ((!self || !has_corner(triangles_s, s, w)) &&
+        within_gap(box_of<1>(boxes, {vt + w}), box_s, gap)) {
+      candidates.vertex_face.push_back({vt + w, first.offsets.triangle + s});
     }
   }
 
   // Edge-edge: each side of one against each side of the other, unless they share an end.
   for (int i = 0; i < 3; ++i) {
     const int edge_s = first.topology.triangle_edges(i, s);
+    const int a0 = first.topology.edges(0, edge_s), a1 = first.topology.edges(1, edge_s);
+    const Box box_a = box_of<2>(boxes, {vs + a0, vs + a1});
     for (int j = 0; j < 3; ++j) {
       const int edge_t = second.topology.triangle_edges(j, t);
-      if (self) {
-        const int a0 = first.topology.edges(0, edge_s), a1 = first.topology.edges(1, edge_s);
-        const int b0 = second.topology.edges(0, edge_t), b1 = second.topology.edges(1, edge_t);
-        if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) continue;
-      }
+      const int b0 = second.topology.edges(0, edge_t), b1 = second.topology.edges(1, edge_t);
+      if (self && (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1)) continue;
+      if (!within_gap(box_a, box_of<2>(boxes, {vt + b0, vt + b1}), gap)) continue;
       const int a = first.offsets.edge + edge_s;
       const int b = second.offsets.edge + edge_t;
       candidates.edge_edge.push_back({std::min(a, b), std::max(a, b)});

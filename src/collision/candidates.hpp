@@ -29,12 +29,22 @@ struct MeshIndexOffsets {
 MeshIndexOffsets next_offsets(const MeshIndexOffsets& offsets, int num_vertices, int num_triangles,
                               int num_edges);
 
+// Per-vertex boxes swept over the step, in combined vertex indices (3 x n_vertices each):
+// a primitive pair whose boxes (the union of its vertices' boxes) stay more than `gap` apart
+// can neither come within the thickness nor collide, and is not written.
+struct SweptVertexBoxes {
+  const Positions& lower;
+  const Positions& upper;
+  double gap;
+};
+
 // A mesh as the candidate stage reads it: its triangles, its topology (for edge indices) and
 // where it sits in the combined index spaces. Refers to data the caller keeps alive.
 struct CandidateMesh {
   const Triangles& triangles;    // (3 x n_triangles), local vertex indices
   const MeshTopology& topology;  // built from `triangles`
   MeshIndexOffsets offsets;
+  const SweptVertexBoxes* boxes = nullptr;  // null: every pair is written
 };
 
 // Vertex-face and edge-edge pairs of a step, sorted and free of duplicates.

@@ -1,3 +1,5 @@
+#include <cstdio>
+#include <cstdlib>
 #include "physics/implicit_euler.hpp"
 
 #include <algorithm>
@@ -114,6 +116,11 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     }
   }
   state.v = (x - x_start_) / h;
+  if (std::getenv("WEFT_NEWTON_TRACE")) {
+    std::fprintf(stderr, "newton %d cg %d:", report_.newton_iterations, report_.linear_iterations);
+    for (double g : report_.gradient_norms) std::fprintf(stderr, " %.2e", g);
+    std::fprintf(stderr, "\n");
+  }
   return report_;
 }
 

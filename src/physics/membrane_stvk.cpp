@@ -5,7 +5,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "physics/psd_projection.hpp"
 
 namespace weft {
 
@@ -80,7 +79,7 @@ Eigen::Matrix2d green_strain(const Vec3& x0, const Vec3& x1, const Vec3& x2, con
 }
 
 double membrane_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const MembraneRest& rest,
-                       const MembraneMaterial& material, Vector9d* gradient, Matrix9d* hessian) {
+                       const MembraneMaterial& material, Vector9d* gradient, Matrix9d* hessian, bool psd) {
   const Matrix32d f = deformation_gradient(x0, x1, x2, rest);
   const Eigen::Matrix2d strain = green_strain_of(f);
   const double young = material.young_modulus;
@@ -152,6 +151,14 @@ double membrane_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Mem
     hessian->noalias() = l.transpose().lazyProduct(tangent_l);
     Eigen::Matrix2d stress_matrix;
     stress_matrix << stress(0), stress(2) / sqrt2, stress(2) / sqrt2, stress(1);
+    if (psd) {
+      const Principal s = principal(stress(0), stress(2) / sqrt2, stress(1));
+      if (s.e_max <= 0.0) {
+        stress_matrix.setZero();
+      } else if (s.e_min < 0.0) {
+        stress_matrix = s.e_max * max_projector(s);
+      }
+    }
     const Eigen::Matrix3d geometric = volume * w.transpose() * stress_matrix * w;
     for (int v = 0; v < 3; ++v) {
       for (int u = 0; u < 3; ++u) hessian->block<3, 3>(3 * v, 3 * u).diagonal().array() += geometric(v, u);
@@ -215,16 +222,14 @@ double evaluate_membrane(const MembraneTerm& term, const Triangles& triangles, c
   for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
     const int i0 = triangles(0, t), i1 = triangles(1, t), i2 = triangles(2, t);
     energy += membrane_energy(x.col(i0), x.col(i1), x.col(i2), term.rest[t], term.material,
-                              gradient ? &element_gradient : nullptr, hessian ? &element_hessian : nullptr);
+                              gradient ? &element_gradient : nullptr, hessian ? &element_hessian : nullptr,
+                              project);
     if (gradient) {
       gradient->col(i0) += element_gradient.segment<3>(0);
       gradient->col(i1) += element_gradient.segment<3>(3);
       gradient->col(i2) += element_gradient.segment<3>(6);
     }
-    if (hessian) {
-      if (project) project_to_psd<9>(element_hessian);
-      hessian->add_element<3>(stencil, static_cast<int>(t), element_hessian);
-    }
+    if (hessian) hessian->add_element<3>(stencil, static_cast<int>(t), element_hessian);
   }
   return energy;
 }

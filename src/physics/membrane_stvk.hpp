@@ -35,8 +35,15 @@ Eigen::Matrix2d green_strain(const Vec3& x0, const Vec3& x1, const Vec3& x2, con
 // t- = min(t, 0), mu = Y/(2(1 + nu)), lambda = Y nu/(1 - nu^2) (plane stress). psi is C1 in E;
 // its second derivative jumps (by the factor c) where a principal strain or tr(E) crosses 0.
 // Fills the gradient (x0, x1, x2 stacked) and the exact Hessian when they are not null.
+//
+// With `psd` the Hessian is made positive semi-definite instead, without an eigen-solve of the
+// 9x9: it is l^T C l + (w^T S w) (x) I3, a material part (C = d2psi/dE2 is PSD because psi is a
+// convex function of E) plus a geometric part that is PSD exactly when the stress S is; `psd`
+// clamps S's negative principal value to zero. Where the triangle is stretched in both
+// directions nothing changes, so Newton keeps its quadratic convergence there.
 double membrane_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const MembraneRest& rest,
-                       const MembraneMaterial& material, Vector9d* gradient, Matrix9d* hessian);
+                       const MembraneMaterial& material, Vector9d* gradient, Matrix9d* hessian,
+                       bool psd = false);
 
 // Plastic flow. With principal Green strains e_i (directions v_i in the rest frame), when
 // max |e_i| > yield_strain the rest metric moves towards the current one so that each excess

@@ -163,8 +163,11 @@ void CollisionPhase::refit_bounding_volumes() {
 // through the cloth also brings non-adjacent triangles together, and those pairs are tested.
 void CollisionPhase::query_candidates(CollisionCandidates& candidates) {
   candidates.clear();
-  const auto candidate_mesh = [](const MeshSlot& slot) {
-    return CandidateMesh{slot.local_triangles, slot.topology, slot.offsets};
+  vertex_lower_.noalias() = x_start_.cwiseMin(x_end_);
+  vertex_upper_.noalias() = x_start_.cwiseMax(x_end_);
+  const SweptVertexBoxes boxes{vertex_lower_, vertex_upper_, max_thickness_};
+  const auto candidate_mesh = [&](const MeshSlot& slot) {
+    return CandidateMesh{slot.local_triangles, slot.topology, slot.offsets, &boxes};
   };
   for (int c = 0; c < num_cloths_; ++c) {
     const MeshSlot& cloth = meshes_[c];

@@ -148,6 +148,8 @@ class CollisionPhase {
   Positions x_start_;               // (3 x n_vertices)
   Positions x_end_;                 // (3 x n_vertices)
   Positions velocity_;              // (3 x n_vertices)
+  Positions vertex_lower_;          // (3 x n_vertices) corners of each vertex's box swept over the step
+  Positions vertex_upper_;
   Eigen::VectorXd inverse_mass_;    // (n_vertices)
   Triangles triangles_;             // (3 x n_triangles)
   Eigen::Matrix2Xi edges_;          // (2 x n_edges)
