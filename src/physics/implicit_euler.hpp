@@ -18,7 +18,8 @@ namespace weft {
 enum class LinearSolverKind { conjugate_gradient, cholesky };
 
 struct ImplicitEulerSettings {
-  double newton_tolerance = 1e-5;   // m/s: stop when the Newton step's largest |dx| / h is below this
+  double newton_tolerance = 1e-5;   // m/s: stop when the Newton step's largest |dx| / h, or the bound
+                                    // h max(1/m) |g| on the next step's, is below this
   int max_newton_iterations = 30;
   LinearSolverKind linear_solver = LinearSolverKind::conjugate_gradient;
   // Conjugate gradient stops at a relative residual eta_k that tightens as Newton converges
