@@ -130,7 +130,9 @@ Ray mouse_ray(const OrbitCamera& camera, const Viewport& viewport) {
 // Alt) orbits; right or middle drag pans; the wheel zooms. Hovering shows the vertex under the cursor.
 class MouseControl {
  public:
-  void update(OrbitCamera& camera, SimulationSession& session, ViewerState& state, const Viewport& viewport) {
+  // `bvhs`: the displayed cloths' hierarchies, for picking.
+  void update(OrbitCamera& camera, SimulationSession& session, ViewerState& state, const Viewport& viewport,
+              const std::vector<Bvh>& bvhs) {
     const ImGuiIO& io = ImGui::GetIO();
     World& world = session.world();
     const Ray ray = mouse_ray(camera, viewport);
@@ -148,7 +150,7 @@ class MouseControl {
       orbiting_ = false;
       return;
     }
-    const std::optional<VertexPick> pick = pick_vertex(world.cloths(), ray);
+    const std::optional<VertexPick> pick = pick_vertex(world.cloths(), ray, &bvhs);
     if (pick) state.hover = {true, pick->cloth, pick->vertex};
     if (ImGui::IsMouseClicked(0)) {
       orbiting_ = io.KeyAlt || !pick;
@@ -335,7 +337,7 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
 
     imgui.begin_frame();
     if (!screenshot) {
-      mouse.update(camera, session, state, viewport);
+      mouse.update(camera, session, state, viewport, meshes.cloth_bvhs);
       handle_keys(session, state, camera, viewport);
     }
     draw_simulation_panel(session, state);
@@ -377,7 +379,7 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
     } else {
       update_world(renderer, meshes, session.world(), state.view);
     }
-    if (state.view.boxes) update_bvhs(meshes, session.world());
+    update_bvhs(meshes, session.world());  // drawn with --show boxes, and used for picking
     if (options.test_contacts) {
       build_overlay(overlay, session.world(), meshes, state.view, synthetic_contacts(session.world()));
     } else {

@@ -1,5 +1,6 @@
 #include "render/picking.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -32,22 +33,64 @@ double intersect(const Ray& ray, const Vec3& p0, const Vec3& p1, const Vec3& p2)
   return e2.dot(q) / det;
 }
 
+// Distance along the ray to where it enters the box (0 if it starts inside), or +infinity for a
+// miss (slab test; a zero direction component divides to +-infinity, which the min/max absorb,
+// or to NaN when the origin lies on that slab's face, where the ray stays in the slab).
+double enter_box(const Ray& ray, const Vec3& inverse_direction, const Aabb& box) {
+  double near = 0.0;
+  double far = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) {
+    double t0 = (box.lower[k] - ray.origin[k]) * inverse_direction[k];
+    double t1 = (box.upper[k] - ray.origin[k]) * inverse_direction[k];
+    if (t0 > t1) std::swap(t0, t1);
+    if (std::isnan(t0) || std::isnan(t1)) continue;  // parallel to the slab, starting on its face: inside
+    near = std::max(near, t0);
+    far = std::min(far, t1);
+  }
+  return near <= far ? near : std::numeric_limits<double>::infinity();
+}
+
+bool matches(const Bvh& bvh, const Cloth& cloth) {
+  return bvh.num_vertices() == cloth.num_vertices() && bvh.triangles().cols() == cloth.model.triangles.cols();
+}
+
 }  // namespace
 
-std::optional<VertexPick> pick_vertex(const std::vector<Cloth>& cloths, const Ray& ray) {
+std::optional<VertexPick> pick_vertex(const std::vector<Cloth>& cloths, const Ray& ray,
+                                      const std::vector<Bvh>* bvhs) {
   VertexPick best;
   best.distance = std::numeric_limits<double>::infinity();
   int best_triangle = -1;
+  const Vec3 inverse_direction = ray.direction.cwiseInverse();
   for (size_t c = 0; c < cloths.size(); ++c) {
     const Positions& x = cloths[c].state.x;
     const Triangles& triangles = cloths[c].model.triangles;
-    for (int t = 0; t < triangles.cols(); ++t) {
+    const auto test = [&](int t) {
       const double distance = intersect(ray, x.col(triangles(0, t)), x.col(triangles(1, t)), x.col(triangles(2, t)));
       if (distance > 0.0 && distance < best.distance) {
         best.distance = distance;
         best.cloth = static_cast<int>(c);
         best_triangle = t;
       }
+    };
+    if (!bvhs || c >= bvhs->size() || !matches((*bvhs)[c], cloths[c])) {
+      for (int t = 0; t < triangles.cols(); ++t) test(t);
+      continue;
+    }
+    // Preorder walk of the flat hierarchy: a node the ray misses, or enters beyond the best hit
+    // so far, is skipped with its subtree (`next`).
+    const Bvh& bvh = (*bvhs)[c];
+    const std::vector<BvhNode>& nodes = bvh.nodes();
+    for (size_t n = 0; n < nodes.size();) {
+      const BvhNode& node = nodes[n];
+      if (enter_box(ray, inverse_direction, node.box) > best.distance) {
+        n = static_cast<size_t>(node.next);
+        continue;
+      }
+      if (node.is_leaf()) {
+        for (int k = node.first; k < node.first + node.count; ++k) test(bvh.triangle_order()[k]);
+      }
+      ++n;
     }
   }
   if (best_triangle < 0) return std::nullopt;

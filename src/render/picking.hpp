@@ -3,6 +3,7 @@
 #include <optional>
 #include <vector>
 
+#include "collision/bvh.hpp"
 #include "core/math.hpp"
 #include "physics/cloth.hpp"
 #include "render/orbit_camera.hpp"
@@ -26,7 +27,11 @@ struct VertexPick {
 };
 
 // The nearest cloth triangle the ray crosses (either side), and its corner nearest the hit point.
-std::optional<VertexPick> pick_vertex(const std::vector<Cloth>& cloths, const Ray& ray);
+// With `bvhs` (one per cloth, built or refitted on the positions in `cloths`), only the triangles
+// in boxes the ray enters are tested, nearest box first; a cloth whose hierarchy does not match
+// its mesh is tested triangle by triangle.
+std::optional<VertexPick> pick_vertex(const std::vector<Cloth>& cloths, const Ray& ray,
+                                      const std::vector<Bvh>* bvhs = nullptr);
 
 // Where the ray meets the plane through `point` facing the camera's view direction: the drag target
 // that keeps a grabbed vertex at its depth.

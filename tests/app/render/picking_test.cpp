@@ -1,5 +1,7 @@
 #include "render/picking.hpp"
 
+#include <random>
+
 #include <gtest/gtest.h>
 
 #include "core/mesh_generators.hpp"
@@ -63,6 +65,34 @@ TEST(Picking, ViewPlaneKeepsTheGrabbedDepth) {
   const Vec3 view(0.0, 0.0, -1.0);
   const Vec3 point = point_on_view_plane(Ray{Vec3(0.0, 0.0, 4.0), Vec3(0.1, 0.05, -1.0).normalized()}, grabbed, view);
   EXPECT_NEAR(point.z(), grabbed.z(), 1e-12);
+}
+
+// Picking through the hierarchies finds exactly what testing every triangle finds, on crumpled
+// cloths from random rays (hits, misses, rays starting between the cloths).
+TEST(Picking, ThroughTheHierarchyEqualsEveryTriangle) {
+  std::vector<Cloth> cloths{grid_cloth(-0.2), grid_cloth(0.3)};
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::vector<Bvh> bvhs(cloths.size());
+  for (size_t c = 0; c < cloths.size(); ++c) {
+    Positions& x = cloths[c].state.x;
+    for (int i = 0; i < x.cols(); ++i) x.col(i) += 0.15 * Vec3(uniform(random), uniform(random), uniform(random));
+    bvhs[c].build(x, cloths[c].model.triangles, 0.0);
+  }
+  int hits = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const Ray ray{Vec3(0.6 * uniform(random), 0.6 * uniform(random), 2.0 * uniform(random)),
+                  Vec3(0.3 * uniform(random), 0.3 * uniform(random), uniform(random)).normalized()};
+    const std::optional<VertexPick> direct = pick_vertex(cloths, ray);
+    const std::optional<VertexPick> through = pick_vertex(cloths, ray, &bvhs);
+    ASSERT_EQ(direct.has_value(), through.has_value()) << "ray " << k;
+    if (!direct) continue;
+    ++hits;
+    EXPECT_EQ(through->cloth, direct->cloth);
+    EXPECT_EQ(through->vertex, direct->vertex);
+    EXPECT_EQ(through->distance, direct->distance);
+  }
+  EXPECT_GT(hits, 200);  // the rays do meet the cloths
 }
 
 }  // namespace
