@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
     const testing::SceneInvariants invariants(world);
     const FrameSchedule schedule = frame_schedule(scene.fps, scene.time_step);
     std::printf("frame,time,steps,contacts,intersecting_pairs,vertices_crossed,step_ms,collision_ms,broad_ms,"
-                "narrow_ms,response_ms\n");
+                "narrow_ms,response_ms,newton_iterations,linear_iterations\n");
     testing::InvariantReport report = invariants.check(world);
     for (int frame = 0; frame <= frames; ++frame) {
       StepStats totals;
@@ -55,9 +55,10 @@ int main(int argc, char** argv) {
         }
         report = invariants.check(world);
       }
-      std::printf("%d,%.6f,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f\n", frame, world.time(), totals.steps,
+      std::printf("%d,%.6f,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%d\n", frame, world.time(), totals.steps,
                   totals.contacts, report.intersecting_pairs, report.vertices_crossed, totals.total_ms,
-                  totals.collisions_ms, totals.broad_phase_ms, totals.narrow_phase_ms, totals.response_ms);
+                  totals.collisions_ms, totals.broad_phase_ms, totals.narrow_phase_ms, totals.response_ms,
+                  totals.newton_iterations, totals.linear_iterations);
       std::fflush(stdout);
       if (!report.ok()) {
         std::fprintf(stderr, "%s: frame %d: %s\n", argv[1], frame, report.first.c_str());

@@ -40,11 +40,11 @@ int main(int argc, char** argv) {
   app.add_option("--screenshot", screenshot, "Viewer: simulate --frames frames, save a PNG and exit");
   app.add_option("--record", record_dir, "Viewer: save every drawn frame as DIR/frame_NNNNN.png");
   app.add_option("--show", show,
-                 "Viewer display switches: boxes, contacts, no-contacts, wireframe, strain, no-pins, no-grid, no-colliders, "
+                 "Viewer display switches: boxes, contacts, no-contacts, wireframe, strain, no-pins, no-grid, no-colliders, cutaway, "
                  "panels (the ImGui panels in saved pictures too)")
       ->delimiter(',')
       ->check(CLI::IsMember({"boxes", "contacts", "no-contacts", "wireframe", "strain", "no-pins", "no-grid",
-                             "no-colliders", "panels"}));
+                             "no-colliders", "cutaway", "panels"}));
   app.add_option("--open-panel", open_panels, "Viewer: start with this panel expanded and in front")
       ->check(CLI::IsMember({"Simulation", "Solver", "Material", "Display and collisions", "Plots"}));
   app.add_option("--box-depth", box_depth, "Viewer: bounding-box hierarchy depth shown with --show boxes")

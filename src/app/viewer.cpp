@@ -284,6 +284,7 @@ ViewOptions view_options_from(const ViewerOptions& options) {
     if (item == "no-pins") view.pins = false;
     if (item == "no-grid") view.ground_grid = false;
     if (item == "no-colliders") view.colliders = false;
+    if (item == "cutaway") view.cutaway = true;
   }
   return view;
 }

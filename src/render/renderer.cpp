@@ -142,7 +142,12 @@ void Renderer::draw(const OrbitCamera& camera, int framebuffer_width, int frameb
     // The surface is pushed back a little so its wireframe wins the depth test.
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(1.0f, 1.0f);
+    if (entry.display.cull_front) {
+      glEnable(GL_CULL_FACE);
+      glCullFace(GL_FRONT);
+    }
     entry.gpu.draw();
+    glDisable(GL_CULL_FACE);
     glDisable(GL_POLYGON_OFFSET_FILL);
     if (entry.display.wireframe) {
       mesh_program.set("u_color_mode", 2);

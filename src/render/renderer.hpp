@@ -33,6 +33,7 @@ struct MeshDisplay {
   bool wireframe = false;       // its edges as lines over the surface
   bool heat_map = false;        // colour by the vertex scalars instead of the style's colours
   float scalar_range = 0.1f;    // heat map: |scalar| shown at full colour
+  bool cull_front = false;      // draw only the faces turned away from the camera (cutaway)
 };
 
 using MeshHandle = int;

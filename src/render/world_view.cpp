@@ -48,6 +48,7 @@ void update_world(Renderer& renderer, const WorldMeshes& meshes, const World& wo
   }
   MeshDisplay collider_display;
   collider_display.visible = options.colliders;
+  collider_display.cull_front = options.cutaway;
   for (size_t k = 0; k < meshes.colliders.size(); ++k) {
     renderer.set_transform(meshes.colliders[k],
                            collider_placement(world.colliders()[k], meshes.plane_anchor, world.time()));

@@ -37,6 +37,8 @@ struct ViewOptions {
   bool pins = true;               // pinned vertices as dots
   bool ground_grid = true;        // grid lines on plane colliders
   bool colliders = true;
+  bool cutaway = false;           // colliders without the faces turned to the camera: the inside of
+                                  // a closed collider (a drum) shows through its near wall
 };
 
 // The renderer's meshes of one World, in the order of world.cloths() and world.colliders().

@@ -23,6 +23,8 @@ void draw_debug_panel(SimulationSession& session, ViewerState& state) {
   if (view.strain) ImGui::SliderFloat("strain range", &view.strain_range, 0.001f, 0.5f, "%.3f", ImGuiSliderFlags_Logarithmic);
   ImGui::Checkbox("colliders", &view.colliders);
   ImGui::SameLine();
+  ImGui::Checkbox("cutaway", &view.cutaway);
+  ImGui::SameLine();
   ImGui::Checkbox("ground grid", &view.ground_grid);
 
   ImGui::Separator();
