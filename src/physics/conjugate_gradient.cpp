@@ -43,7 +43,7 @@ ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hess
   const double threshold = tolerance * b_norm;
   double r_norm = b_norm;
   while (report.iterations < max_iterations) {
-    q_.noalias() = matrix * p_;
+    hessian.multiply(p_, q_);
     const double curvature = p_.dot(q_);
     if (!(curvature > 0.0)) break;  // not positive definite along p (or NaN): stop with what we have
     const double alpha = rz / curvature;

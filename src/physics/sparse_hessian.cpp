@@ -100,4 +100,33 @@ void SparseHessian::finish_assembly() {
   for (int k : fixed_diagonal_indices_) values[k] = 1.0;
 }
 
+void SparseHessian::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  // Layout (finish_pattern): block row a is scalar rows 3a..3a+2 of equal length, each listing
+  // its blocks' columns 3b, 3b+1, 3b+2 in the same order.
+  const int* starts = matrix_.outerIndexPtr();
+  const int* columns = matrix_.innerIndexPtr();
+  const double* values = matrix_.valuePtr();
+  const double* in = x.data();
+  double* out = y.data();
+#pragma omp parallel for schedule(static)
+  for (int a = 0; a < num_vertices_; ++a) {
+    const int begin = starts[3 * a];
+    const int width = starts[3 * a + 1] - begin;
+    const double* row0 = values + begin;
+    const double* row1 = row0 + width;
+    const double* row2 = row1 + width;
+    double y0 = 0.0, y1 = 0.0, y2 = 0.0;
+    for (int k = 0; k < width; k += 3) {
+      const double* xb = in + columns[begin + k];
+      const double x0 = xb[0], x1 = xb[1], x2 = xb[2];
+      y0 += row0[k] * x0 + row0[k + 1] * x1 + row0[k + 2] * x2;
+      y1 += row1[k] * x0 + row1[k + 1] * x1 + row1[k + 2] * x2;
+      y2 += row2[k] * x0 + row2[k + 1] * x1 + row2[k + 2] * x2;
+    }
+    out[3 * a] = y0;
+    out[3 * a + 1] = y1;
+    out[3 * a + 2] = y2;
+  }
+}
+
 }  // namespace weft

@@ -46,6 +46,11 @@ class SparseHessian {
     return block;
   }
 
+  // y = H x (y sized by the caller), block row by block row: each 3x3 block's column index is
+  // read once and its three rows multiply the same three entries of x. Block rows are shared
+  // among the OpenMP threads; each row sums in the same order whatever their number.
+  void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+
   const Matrix& matrix() const { return matrix_; }
   int num_vertices() const { return num_vertices_; }
 

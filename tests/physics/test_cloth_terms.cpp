@@ -4,6 +4,7 @@
 // Hessian is positive semi-definite, and the drag and spring-damping dissipation potential's
 // derivatives are right.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <random>
@@ -100,6 +101,33 @@ TEST(ClothTerms, AssembledPotentialGradientAndHessianTaylorTest) {
         },
         1e-2, "gradient against Hessian");
   }
+}
+
+// The block product the conjugate-gradient solver uses equals the scalar sparse product, and
+// is the same bit for bit on one thread and on two.
+TEST(ClothTerms, BlockMultiplyEqualsTheSparseProduct) {
+  const ClothModel model = every_term_model();
+  SparseHessian hessian;
+  HessianStencils stencils;
+  prepare_hessian(model, hessian, stencils);
+  std::mt19937 rng(11);
+  const Positions x = perturbed(model.rest_positions, 0.03, rng);
+  hessian.set_zero();
+  evaluate_potential(model, Vec3(0.0, -9.81, 0.0), x, nullptr, &hessian, stencils, /*project=*/true);
+  hessian.finish_assembly();
+  const Positions d = perturbed(Positions::Zero(3, x.cols()), 1.0, rng);
+  const Eigen::VectorXd in = Eigen::Map<const Eigen::VectorXd>(d.data(), d.size());
+  const Eigen::VectorXd expected = hessian.matrix() * in;
+  Eigen::VectorXd one_thread(in.size()), two_threads(in.size());
+  const int threads_before = omp_get_max_threads();
+  omp_set_num_threads(1);
+  hessian.multiply(in, one_thread);
+  omp_set_num_threads(2);
+  hessian.multiply(in, two_threads);
+  omp_set_num_threads(threads_before);
+  ASSERT_GT(expected.norm(), 0.0);
+  EXPECT_LE((one_thread - expected).norm(), 1e-13 * expected.norm());
+  EXPECT_EQ(one_thread, two_threads);
 }
 
 TEST(ClothTerms, DissipationPotentialTaylorTestAndDampingForce) {
