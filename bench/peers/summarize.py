@@ -279,7 +279,6 @@ def plot_final_frames(path, rows, n, pyplot):
         axes.set_zlim(-0.8, 1.2)
         axes.set_box_aspect((1, 1, 1))
         axes.view_init(elev=25, azim=-60)
-        axes.set_zlabel("height (m)")
         axes.set_title(f"{simulator} ({threads} thread{'s' if int(threads) > 1 else ''}), N = {n}")
 
         side = figure.add_subplot(2, len(chosen), len(chosen) + column + 1)
