@@ -47,13 +47,14 @@ bool share_vertex(const Triangles& triangles, int s, int t) {
 // Splits the node pair `task` one level into `out`. Returns false when it cannot be split
 // (within one leaf, or two leaves): the caller keeps it whole. A pair of disjoint nodes splits
 // into nothing. With `self`, (n, n) stands for the pairs within node n, which are its two
-// children's within-pairs and the pair of its children.
+// children's within-pairs and the pair of its children; a node flagged in `culled` has none.
 template <bool self>
 bool split_task(const std::vector<BvhNode>& first, const std::vector<BvhNode>& second, TrianglePair task,
-                std::vector<TrianglePair>& out) {
+                const char* culled, std::vector<TrianglePair>& out) {
   const BvhNode& a = first[task.a];
   const BvhNode& b = second[task.b];
   if (self && task.a == task.b) {
+    if (culled != nullptr && culled[task.a]) return true;
     if (a.is_leaf()) return false;
     out.push_back({task.a + 1, task.a + 1});
     out.push_back({a.right, a.right});
@@ -103,14 +104,14 @@ void leaf_pairs(const Bvh& first, const Bvh& second, int a, int b, bool keep_nei
 
 // Visits node pair `task` and everything below it depth first, appending triangle pairs.
 template <bool self>
-void traverse(const Bvh& first, const Bvh& second, TrianglePair task, bool keep_neighbours,
+void traverse(const Bvh& first, const Bvh& second, TrianglePair task, bool keep_neighbours, const char* culled,
               std::vector<TrianglePair>& stack, std::vector<TrianglePair>& found) {
   stack.clear();
   stack.push_back(task);
   while (!stack.empty()) {
     const TrianglePair top = stack.back();
     stack.pop_back();
-    if (!split_task<self>(first.nodes(), second.nodes(), top, stack)) {
+    if (!split_task<self>(first.nodes(), second.nodes(), top, culled, stack)) {
       leaf_pairs<self>(first, second, top.a, top.b, keep_neighbours, found);
     }
   }
@@ -120,8 +121,8 @@ void traverse(const Bvh& first, const Bvh& second, TrianglePair task, bool keep_
 // then traverses the tasks in parallel into per-thread lists, and sorts and deduplicates those
 // into `pairs`.
 template <bool self>
-void find_pairs(const Bvh& first, const Bvh& second, bool keep_neighbours, BvhQueryBuffers& buffers,
-                std::vector<TrianglePair>& pairs) {
+void find_pairs(const Bvh& first, const Bvh& second, bool keep_neighbours, const char* culled,
+                BvhQueryBuffers& buffers, std::vector<TrianglePair>& pairs) {
   pairs.clear();
   if (first.nodes().empty() || second.nodes().empty()) return;
 
@@ -134,7 +135,7 @@ void find_pairs(const Bvh& first, const Bvh& second, bool keep_neighbours, BvhQu
     next.clear();
     bool split_any = false;
     for (const TrianglePair& task : tasks) {
-      if (split_task<self>(first.nodes(), second.nodes(), task, next)) {
+      if (split_task<self>(first.nodes(), second.nodes(), task, culled, next)) {
         split_any = true;
       } else {
         next.push_back(task);
@@ -161,7 +162,7 @@ void find_pairs(const Bvh& first, const Bvh& second, bool keep_neighbours, BvhQu
     std::vector<TrianglePair>& found = buffers.thread_pairs[thread];
 #pragma omp for schedule(dynamic, 1)
     for (int k = 0; k < num_tasks; ++k) {
-      traverse<self>(first, second, tasks[k], keep_neighbours, stack, found);
+      traverse<self>(first, second, tasks[k], keep_neighbours, culled, stack, found);
     }
   }
 
@@ -215,6 +216,7 @@ void Bvh::build(const Positions& x_start, const Positions& x_end, const Triangle
   build_nodes();
   refit_nodes();
   cost_at_build_ = cost_;
+  ++builds_;
 }
 
 void Bvh::refit(const Positions& x_start, const Positions& x_end, double margin) {
@@ -361,8 +363,13 @@ void Bvh::refit_nodes() {
 }
 
 void find_self_pairs(const Bvh& bvh, BvhQueryBuffers& buffers, std::vector<TrianglePair>& pairs,
-                     SharedVertexPairs shared_vertex_pairs) {
-  find_pairs<true>(bvh, bvh, shared_vertex_pairs == SharedVertexPairs::keep, buffers, pairs);
+                     SharedVertexPairs shared_vertex_pairs, const std::vector<char>* culled) {
+  if (culled != nullptr && culled->size() != bvh.nodes().size()) {
+    throw std::invalid_argument("find_self_pairs: " + std::to_string(culled->size()) + " culling flags for " +
+                                std::to_string(bvh.nodes().size()) + " nodes");
+  }
+  find_pairs<true>(bvh, bvh, shared_vertex_pairs == SharedVertexPairs::keep, culled ? culled->data() : nullptr,
+                   buffers, pairs);
 }
 
 std::vector<TrianglePair> find_self_pairs(const Bvh& bvh, SharedVertexPairs shared_vertex_pairs) {
@@ -374,7 +381,7 @@ std::vector<TrianglePair> find_self_pairs(const Bvh& bvh, SharedVertexPairs shar
 
 void find_pairs_between(const Bvh& first, const Bvh& second, BvhQueryBuffers& buffers,
                         std::vector<TrianglePair>& pairs) {
-  find_pairs<false>(first, second, false, buffers, pairs);
+  find_pairs<false>(first, second, false, nullptr, buffers, pairs);
 }
 
 std::vector<TrianglePair> find_pairs_between(const Bvh& first, const Bvh& second) {

@@ -93,6 +93,8 @@ class Bvh {
   // Swept, inflated box of each triangle (n_triangles), from the last build or refit.
   const std::vector<Aabb>& triangle_boxes() const { return triangle_boxes_; }
   const BvhSettings& settings() const { return settings_; }
+  // How many times build() has run: data kept per node elsewhere is stale when this changed.
+  int builds() const { return builds_; }
 
  private:
   void compute_triangle_boxes(const Positions& x_start, const Positions& x_end, double margin);
@@ -107,6 +109,7 @@ class Bvh {
   std::vector<BvhNode> nodes_;        // depth-first preorder; empty when there are no triangles
   double cost_ = 0.0;
   double cost_at_build_ = 0.0;
+  int builds_ = 0;
 };
 
 // A pair of triangles whose boxes overlap: `a` from the first hierarchy, `b` from the second;
@@ -139,9 +142,11 @@ struct BvhQueryBuffers {
 enum class SharedVertexPairs { skip, keep };
 
 // Pairs of triangles of one mesh whose boxes overlap; each pair once with a < b, sorted.
-// Replaces the contents of `pairs`.
+// Replaces the contents of `pairs`. With `culled` (one flag per node, SelfCulling::culled()),
+// the pairs within a flagged node are skipped.
 void find_self_pairs(const Bvh& bvh, BvhQueryBuffers& buffers, std::vector<TrianglePair>& pairs,
-                     SharedVertexPairs shared_vertex_pairs = SharedVertexPairs::skip);
+                     SharedVertexPairs shared_vertex_pairs = SharedVertexPairs::skip,
+                     const std::vector<char>* culled = nullptr);
 std::vector<TrianglePair> find_self_pairs(const Bvh& bvh,
                                           SharedVertexPairs shared_vertex_pairs = SharedVertexPairs::skip);
 

@@ -494,6 +494,7 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
     collision.integer("max_impact_zone_passes", settings.max_impact_zone_passes, 1, 10000);
     collision.integer("max_rounds", settings.max_rounds, 1, 100);
     collision.number("bvh_rebuild_ratio", settings.bvh.rebuild_ratio, Range{1.0, HUGE_VAL, true, " > 1"});
+    collision.boolean("self_culling", settings.self_culling.enabled);
     collision.finish();
   }
   if (const json* colliders = reader.find("colliders")) {
@@ -648,7 +649,8 @@ json scene_to_json(const SceneDesc& scene) {
                            {"max_ccd_passes", scene.collision.max_ccd_passes},
                            {"max_impact_zone_passes", scene.collision.max_impact_zone_passes},
                            {"max_rounds", scene.collision.max_rounds},
-                           {"bvh_rebuild_ratio", scene.collision.bvh.rebuild_ratio}};
+                           {"bvh_rebuild_ratio", scene.collision.bvh.rebuild_ratio},
+                           {"self_culling", scene.collision.self_culling.enabled}};
   document["colliders"] = json::array();
   for (const Collider& collider : scene.colliders) {
     json item = {{"type", to_string(collider.shape)},

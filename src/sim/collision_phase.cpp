@@ -170,9 +170,10 @@ void CollisionPhase::query_candidates(CollisionCandidates& candidates) {
     return CandidateMesh{slot.local_triangles, slot.topology, slot.offsets, &boxes};
   };
   for (int c = 0; c < num_cloths_; ++c) {
-    const MeshSlot& cloth = meshes_[c];
+    MeshSlot& cloth = meshes_[c];
     if (materials_[c].self_collision) {
-      find_self_pairs(cloth.bvh, buffers_, pairs_, SharedVertexPairs::skip);
+      cloth.culling.update(cloth.bvh, x_start_, x_end_, max_thickness_, settings.self_culling);
+      find_self_pairs(cloth.bvh, buffers_, pairs_, SharedVertexPairs::skip, &cloth.culling.culled());
       append_self_candidates(pairs_, candidate_mesh(cloth), candidates);
     }
     for (size_t other = c + 1; other < meshes_.size(); ++other) {

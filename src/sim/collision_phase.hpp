@@ -25,6 +25,7 @@
 #include "collision/collision_step.hpp"
 #include "collision/contact_record.hpp"
 #include "collision/impact_zones.hpp"
+#include "collision/self_culling.hpp"
 #include "core/topology.hpp"
 #include "physics/cloth.hpp"
 
@@ -48,6 +49,7 @@ struct CollisionSettings {
   int max_rounds = 3;                   // CCD + zones rounds while verify_motion finds collisions
   double max_step_displacement = 100.0; // m; a vertex moving farther in one step means divergence
   BvhSettings bvh;
+  SelfCullingSettings self_culling;  // skip self tests in flat, unfolded regions
 };
 
 // What the phase did in the last step, summed over sub-steps by the World.
@@ -121,6 +123,7 @@ class CollisionPhase {
     Triangles global_triangles;  // the same in combined vertex indices (what the BVH reads)
     MeshTopology topology;
     Bvh bvh;
+    SelfCulling culling;         // cloths with self-collision: regions that cannot touch themselves
     bool built = false;
     bool moves = true;           // cloths, kinematic colliders
     double thickness = 0.0;      // cloths; 0 for colliders

@@ -37,11 +37,14 @@ TEST(CollisionPhase, AClothThrownFasterThanAStepStopsOnAThinBox) {
     "colliders": [{"type": "box", "center": [0, 0, 0], "half_extents": [1, 0.001, 1]}]
   })");
   const testing::SceneInvariants invariants(world);
-  run(world, 5, invariants);
+  StepStats totals;
+  for (int k = 0; k < 5; ++k) {
+    run(world, 1, invariants);
+    totals += world.last_step_stats();
+  }
   EXPECT_GT(world.cloths()[0].state.x.row(1).minCoeff(), 0.001);
-  const StepStats& stats = world.last_step_stats();
-  EXPECT_GT(stats.vertex_face_candidates, 0);
-  EXPECT_TRUE(stats.collisions_clean);
+  EXPECT_GT(totals.vertex_face_candidates, 0);  // the box was seen (self pairs of the flat sheet are culled)
+  EXPECT_TRUE(world.last_step_stats().collisions_clean);
 }
 
 TEST(CollisionPhase, RecordsSayWhatTouchedWhat) {

@@ -1,0 +1,264 @@
+#include "collision/self_culling.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+
+namespace weft {
+
+namespace {
+
+int find_root(std::vector<int>& parent, int i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+void join(std::vector<int>& parent, int a, int b) { parent[find_root(parent, a)] = find_root(parent, b); }
+
+double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+double point_segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const double s = length2 > 0.0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (a + s * ab - p).norm();
+}
+
+// Distance between the segments ab and cd in the plane (0 when they cross or touch).
+double segment_distance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                        const Eigen::Vector2d& d) {
+  const double d1 = cross2(b - a, c - a);
+  const double d2 = cross2(b - a, d - a);
+  const double d3 = cross2(d - c, a - c);
+  const double d4 = cross2(d - c, b - c);
+  if (((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))) {
+    return 0.0;
+  }
+  return std::min(std::min(point_segment_distance(a, c, d), point_segment_distance(b, c, d)),
+                  std::min(point_segment_distance(c, a, b), point_segment_distance(d, a, b)));
+}
+
+}  // namespace
+
+void SelfCulling::prepare(const Bvh& bvh) {
+  const std::vector<BvhNode>& nodes = bvh.nodes();
+  const int num_nodes = static_cast<int>(nodes.size());
+  const std::vector<int>& order = bvh.triangle_order();
+  const Triangles& triangles = bvh.triangles();
+  // A subtree's triangles are contiguous in the leaf order: from its leftmost leaf to its
+  // rightmost one (children have larger indices, so one backward pass fills every range).
+  range_begin_.resize(num_nodes);
+  range_end_.resize(num_nodes);
+  for (int k = num_nodes - 1; k >= 0; --k) {
+    if (nodes[k].is_leaf()) {
+      range_begin_[k] = nodes[k].first;
+      range_end_[k] = nodes[k].first + nodes[k].count;
+    } else {
+      range_begin_[k] = range_begin_[k + 1];
+      range_end_[k] = range_end_[nodes[k].right];
+    }
+  }
+
+  disk_.assign(num_nodes, 0);
+  boundary_start_.assign(num_nodes + 1, 0);
+  boundary_.clear();
+  std::vector<std::array<int, 3>> edges;  // (smaller vertex, larger vertex, local triangle)
+  std::vector<int> vertices;
+  std::vector<int> triangle_parent;
+  std::vector<Eigen::Vector2i> boundary;
+  std::vector<std::pair<int, int>> ends;  // (vertex, boundary edge)
+  std::vector<int> edge_parent;
+  for (int k = 0; k < num_nodes; ++k) {
+    boundary_start_[k] = static_cast<int>(boundary_.size());
+    const int begin = range_begin_[k];
+    const int num_triangles = range_end_[k] - begin;
+    if (nodes[k].is_leaf() || num_triangles < 2) continue;  // within-leaf pairs are always tested
+    edges.clear();
+    vertices.clear();
+    for (int i = 0; i < num_triangles; ++i) {
+      const int t = order[begin + i];
+      for (int c = 0; c < 3; ++c) {
+        const int u = triangles(c, t);
+        const int v = triangles((c + 1) % 3, t);
+        edges.push_back({std::min(u, v), std::max(u, v), i});
+        vertices.push_back(u);
+      }
+    }
+    std::sort(edges.begin(), edges.end());
+    std::sort(vertices.begin(), vertices.end());
+    const int num_vertices = static_cast<int>(std::unique(vertices.begin(), vertices.end()) - vertices.begin());
+
+    // Edges: shared by two triangles (joined), on the boundary (one), or non-manifold (more).
+    triangle_parent.resize(num_triangles);
+    std::iota(triangle_parent.begin(), triangle_parent.end(), 0);
+    boundary.clear();
+    int num_edges = 0;
+    bool manifold = true;
+    for (size_t i = 0; i < edges.size();) {
+      size_t j = i + 1;
+      while (j < edges.size() && edges[j][0] == edges[i][0] && edges[j][1] == edges[i][1]) ++j;
+      ++num_edges;
+      if (j - i == 1) {
+        boundary.emplace_back(edges[i][0], edges[i][1]);
+      } else if (j - i == 2) {
+        join(triangle_parent, edges[i][2], edges[i + 1][2]);
+      } else {
+        manifold = false;
+      }
+      i = j;
+    }
+    if (!manifold || num_vertices - num_edges + num_triangles != 1) continue;
+    int components = 0;
+    for (int i = 0; i < num_triangles; ++i) components += find_root(triangle_parent, i) == i;
+    if (components != 1) continue;
+
+    // One boundary loop: every boundary vertex ends exactly two boundary edges, and the edges
+    // joined at their shared vertices form one group.
+    ends.clear();
+    for (size_t e = 0; e < boundary.size(); ++e) {
+      ends.emplace_back(boundary[e].x(), static_cast<int>(e));
+      ends.emplace_back(boundary[e].y(), static_cast<int>(e));
+    }
+    std::sort(ends.begin(), ends.end());
+    edge_parent.resize(boundary.size());
+    std::iota(edge_parent.begin(), edge_parent.end(), 0);
+    bool loop = !boundary.empty();
+    for (size_t i = 0; loop && i < ends.size(); i += 2) {
+      loop = i + 1 < ends.size() && ends[i + 1].first == ends[i].first &&
+             (i + 2 >= ends.size() || ends[i + 2].first != ends[i].first);
+      if (loop) join(edge_parent, ends[i].second, ends[i + 1].second);
+    }
+    if (!loop) continue;
+    int loops = 0;
+    for (size_t e = 0; e < boundary.size(); ++e) loops += find_root(edge_parent, static_cast<int>(e)) == static_cast<int>(e);
+    if (loops != 1) continue;
+    disk_[k] = 1;
+    boundary_.insert(boundary_.end(), boundary.begin(), boundary.end());
+  }
+  boundary_start_[num_nodes] = static_cast<int>(boundary_.size());
+  prepared_build_ = bvh.builds();
+}
+
+void SelfCulling::update(const Bvh& bvh, const Positions& x_start, const Positions& x_end, double margin,
+                         const SelfCullingSettings& settings) {
+  stats_ = SelfCullingStats{};
+  const std::vector<BvhNode>& nodes = bvh.nodes();
+  const int num_nodes = static_cast<int>(nodes.size());
+  culled_.assign(num_nodes, 0);
+  if (!settings.enabled || num_nodes == 0) return;
+  if (prepared_build_ != bvh.builds() || static_cast<int>(disk_.size()) != num_nodes) prepare(bvh);
+
+  // Per triangle: the three directions whose cone holds n(t) over the step, and n0 + n1 for the
+  // axes (area weighted).
+  const Triangles& triangles = bvh.triangles();
+  const int num_triangles = static_cast<int>(triangles.cols());
+  unit_normals_.resize(3 * static_cast<size_t>(num_triangles));
+  degenerate_.resize(num_triangles);
+  axis_sums_.resize(num_nodes);
+  std::vector<Vec3>& unit = unit_normals_;
+#pragma omp parallel for schedule(static) if (num_triangles > 4096)
+  for (int t = 0; t < num_triangles; ++t) {
+    const Vec3 a0 = x_start.col(triangles(0, t)), b0 = x_start.col(triangles(1, t)), c0 = x_start.col(triangles(2, t));
+    const Vec3 a1 = x_end.col(triangles(0, t)), b1 = x_end.col(triangles(1, t)), c1 = x_end.col(triangles(2, t));
+    const Vec3 e1_start = b0 - a0, e2_start = c0 - a0, e1_end = b1 - a1, e2_end = c1 - a1;
+    const std::array<Vec3, 3> normals{e1_start.cross(e2_start), 0.5 * (e1_start.cross(e2_end) + e1_end.cross(e2_start)),
+                                      e1_end.cross(e2_end)};
+    degenerate_[t] = !(normals[0].squaredNorm() > 0.0) || !(normals[2].squaredNorm() > 0.0);
+    for (int j = 0; j < 3; ++j) {
+      const double length = normals[j].norm();
+      unit[3 * t + j] = length > 0.0 ? Vec3(normals[j] / length) : Vec3::Zero();
+    }
+  }
+  const std::vector<int>& order = bvh.triangle_order();
+  for (int k = num_nodes - 1; k >= 0; --k) {
+    if (nodes[k].is_leaf()) {
+      Vec3 sum = Vec3::Zero();
+      for (int i = range_begin_[k]; i < range_end_[k]; ++i) {
+        const int t = order[i];
+        const Vec3 a0 = x_start.col(triangles(0, t)), a1 = x_end.col(triangles(0, t));
+        sum += (x_start.col(triangles(1, t)) - a0).cross(x_start.col(triangles(2, t)) - a0);
+        sum += (x_end.col(triangles(1, t)) - a1).cross(x_end.col(triangles(2, t)) - a1);
+      }
+      axis_sums_[k] = sum;
+    } else {
+      axis_sums_[k] = axis_sums_[k + 1] + axis_sums_[nodes[k].right];
+    }
+  }
+
+  // Preorder: a culled node's subtree is skipped whole (its within-node task never splits).
+  const double cos_limit = std::cos(settings.max_cone_angle);
+  for (int k = 0; k < num_nodes;) {
+    if (!disk_[k]) {
+      ++k;
+      continue;
+    }
+    ++stats_.nodes_tested;
+    const double length = axis_sums_[k].norm();
+    const bool cull = length > 0.0 && cone_holds(order, k, axis_sums_[k] / length, cos_limit) &&
+                      contour_simple(k, axis_sums_[k] / length, x_start, x_end, margin);
+    if (!cull) {
+      ++k;
+      continue;
+    }
+    culled_[k] = 1;
+    ++stats_.nodes_culled;
+    stats_.triangles_culled += range_end_[k] - range_begin_[k];
+    k = nodes[k].next;
+  }
+}
+
+bool SelfCulling::cone_holds(const std::vector<int>& order, int node, const Vec3& axis, double cos_limit) const {
+  for (int i = range_begin_[node]; i < range_end_[node]; ++i) {
+    const int t = order[i];
+    if (degenerate_[t]) return false;
+    for (int j = 0; j < 3; ++j) {
+      const Vec3& n = unit_normals_[3 * t + j];
+      if (j == 1 && n.squaredNorm() == 0.0) continue;  // the mixed term vanished: n(t) is a sum of n0 and n1
+      if (!(n.dot(axis) > cos_limit)) return false;
+    }
+  }
+  return true;
+}
+
+bool SelfCulling::contour_simple(int node, const Vec3& axis, const Positions& x_start, const Positions& x_end,
+                                 double margin) {
+  const Vec3 u = axis.unitOrthogonal();
+  const Vec3 w = axis.cross(u);
+  segments_.clear();
+  for (int e = boundary_start_[node]; e < boundary_start_[node + 1]; ++e) {
+    Segment s;
+    s.u = boundary_[e].x();
+    s.v = boundary_[e].y();
+    const Vec3 p = x_start.col(s.u), q = x_start.col(s.v);
+    const Vec3 dp = x_end.col(s.u) - p, dq = x_end.col(s.v) - q;
+    s.a = Eigen::Vector2d(u.dot(p), w.dot(p));
+    s.b = Eigen::Vector2d(u.dot(q), w.dot(q));
+    const double move_p = std::hypot(u.dot(dp), w.dot(dp));
+    const double move_q = std::hypot(u.dot(dq), w.dot(dq));
+    s.reach = std::max(move_p, move_q) + 0.5 * margin;
+    s.lower_x = std::min(s.a.x(), s.b.x()) - s.reach;
+    s.upper_x = std::max(s.a.x(), s.b.x()) + s.reach;
+    s.lower_y = std::min(s.a.y(), s.b.y()) - s.reach;
+    s.upper_y = std::max(s.a.y(), s.b.y()) + s.reach;
+    segments_.push_back(s);
+  }
+  // Sweep along x: only segments whose reach boxes overlap can come closer than their reaches.
+  std::sort(segments_.begin(), segments_.end(),
+            [](const Segment& a, const Segment& b) { return a.lower_x < b.lower_x; });
+  for (size_t i = 0; i < segments_.size(); ++i) {
+    const Segment& s = segments_[i];
+    for (size_t j = i + 1; j < segments_.size() && segments_[j].lower_x <= s.upper_x; ++j) {
+      const Segment& t = segments_[j];
+      if (t.lower_y > s.upper_y || s.lower_y > t.upper_y) continue;
+      if (s.u == t.u || s.u == t.v || s.v == t.u || s.v == t.v) continue;  // neighbours on the loop
+      if (segment_distance(s.a, s.b, t.a, t.b) <= s.reach + t.reach) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace weft

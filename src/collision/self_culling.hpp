@@ -1,0 +1,86 @@
+#pragma once
+// Self-collision culling over a BVH (after Volino and Magnenat-Thalmann 1994, with the
+// continuous normal cone of Tang, Curtis, Yoon and Manocha 2009): a region of a surface cannot
+// touch itself when
+//   1. it is a topological disk (connected, Euler characteristic 1, one boundary loop),
+//   2. every triangle normal stays within a cone around one axis for the whole step, so the
+//      projection along the axis keeps every triangle's orientation (a local immersion), and
+//   3. the boundary projected along the axis stays a simple curve for the whole step,
+// because an immersed disk whose boundary is simple is embedded: its projection is one to one.
+// The node-pair query then skips the pairs within such a node (its "within node" task).
+//
+// Continuous version: with edges e1, e2 moving linearly over the step, the normal is
+// n(t) = (1-t)^2 n0 + 2t(1-t) m + t^2 n1 with m = (e1(0) x e2(1) + e1(1) x e2(0)) / 2, a
+// non-negative combination of n0, m and n1; all three within the cone keep n(t) there.
+// The boundary stays simple when every two boundary edges that share no vertex are further
+// apart at the start (in projection) than their projected displacements plus the margin.
+//
+// Culling skips proximity tests inside such regions too: two non-adjacent triangles of a flat
+// region within the thickness of each other are not repelled. They cannot cross, which is
+// what the collision phase must guarantee.
+#include <vector>
+
+#include "collision/bvh.hpp"
+#include "core/math.hpp"
+
+namespace weft {
+
+struct SelfCullingSettings {
+  bool enabled = true;
+  double max_cone_angle = 1.0471975511965976;  // rad (60 degrees): the widest normal cone culled
+};
+
+struct SelfCullingStats {
+  int nodes_tested = 0;        // nodes whose cone or contour was examined this step
+  int nodes_culled = 0;        // subtrees whose within-node pairs were skipped
+  int triangles_culled = 0;    // triangles in those subtrees
+};
+
+class SelfCulling {
+ public:
+  // Topology of every node's triangles (disk or not, boundary edges). Called by update() when
+  // the hierarchy was rebuilt since the last call; public for tests.
+  void prepare(const Bvh& bvh);
+
+  // Decides which nodes of `bvh` (built or refitted over x_start -> x_end) are culled for this
+  // step; `margin` is the proximity distance the query's boxes were inflated by.
+  void update(const Bvh& bvh, const Positions& x_start, const Positions& x_end, double margin,
+              const SelfCullingSettings& settings = {});
+
+  // Per node: 1 when the pairs within the node can be skipped this step (meaningful only for
+  // nodes whose ancestors are not culled). Empty before the first update.
+  const std::vector<char>& culled() const { return culled_; }
+  const SelfCullingStats& stats() const { return stats_; }
+  // Per node: whether its triangles form a disk (after prepare).
+  const std::vector<char>& disks() const { return disk_; }
+
+ private:
+  bool cone_holds(const std::vector<int>& order, int node, const Vec3& axis, double cos_limit) const;
+  bool contour_simple(int node, const Vec3& axis, const Positions& x_start, const Positions& x_end,
+                      double margin);
+
+  int prepared_build_ = -1;           // Bvh::builds() when prepared
+  std::vector<int> range_begin_;      // per node: its triangles are triangle_order()[begin, end)
+  std::vector<int> range_end_;
+  std::vector<char> disk_;            // per node
+  std::vector<int> boundary_start_;   // per node: its boundary edges are boundary_[start, start of next)
+  std::vector<Eigen::Vector2i> boundary_;
+
+  // Per step.
+  std::vector<Vec3> unit_normals_;    // 3 per triangle: n0, m, n1 normalised (zero when degenerate)
+  std::vector<char> degenerate_;      // per triangle: a normal vanished, the cone cannot hold
+  std::vector<Vec3> axis_sums_;       // per node: sum of n0 + n1 (area weighted) below it
+  std::vector<char> culled_;
+  SelfCullingStats stats_;
+
+  // Scratch of the contour test.
+  struct Segment {
+    Eigen::Vector2d a, b;          // projected end points at the start of the step
+    double reach = 0.0;            // projected displacement bound plus half the margin
+    double lower_x = 0.0, upper_x = 0.0, lower_y = 0.0, upper_y = 0.0;
+    int u = 0, v = 0;              // vertices
+  };
+  std::vector<Segment> segments_;
+};
+
+}  // namespace weft
