@@ -353,7 +353,8 @@ void CollisionPhase::apply_impact_zones() {
   stats_.response_ms += milliseconds_since(start);
 }
 
-// Phase: the corrected motion may have left the swept boxes the candidates came from; if so,
+// Phase: the corrected motion may have left the swept boxes the candidates came from, or undone
+// what let self-collision culling skip a region; if so,
 // query again and test the new candidates. Returns true when they collide.
 bool CollisionPhase::verify_motion() {
   auto start = Clock::now();
@@ -372,6 +373,16 @@ bool CollisionPhase::verify_motion() {
         }
       }
     }
+  }
+  // Self-collision culling was decided on the uncorrected motion; a region it skipped must
+  // still pass its tests (normal cone, unfolded contour) on the corrected one.
+  for (int c = 0; c < num_cloths_ && inside; ++c) {
+    MeshSlot& slot = meshes_[c];
+    if (!materials_[c].self_collision || !settings.self_culling.enabled) continue;
+    culled_before_ = slot.culling.culled();
+    slot.culling.update(slot.bvh, x_start_, x_end_, max_thickness_, settings.self_culling);
+    const std::vector<char>& culled_now = slot.culling.culled();
+    for (size_t k = 0; k < culled_before_.size() && inside; ++k) inside = !culled_before_[k] || culled_now[k];
   }
   if (inside) {
     stats_.broad_ms += milliseconds_since(start);
