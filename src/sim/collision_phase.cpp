@@ -398,6 +398,9 @@ bool CollisionPhase::verify_motion() {
                     collisions_);
   stats_.narrow_ms += milliseconds_since(start);
   std::swap(candidates_, verify_candidates_);
+  // Found collisions make the step unclean until a next round resolves them; when the rounds
+  // run out first, the step is reported unclean instead of silently keeping them.
+  if (!collisions_.empty()) stats_.clean = false;
   return !collisions_.empty();
 }
 

@@ -46,7 +46,7 @@ struct CollisionSettings {
   double ccd_separation = 0.1;          // fraction of the thickness a CCD impulse restores
   int max_ccd_passes = 8;               // CCD impulse passes before impact zones
   int max_impact_zone_passes = 64;      // zone passes before the involved vertices stop
-  int max_rounds = 3;                   // CCD + zones rounds while verify_motion finds collisions
+  int max_rounds = 16;                  // CCD + zones rounds while verify_motion finds collisions
   double max_step_displacement = 100.0; // m; a vertex moving farther in one step means divergence
   BvhSettings bvh;
   // Skip self tests in flat, unfolded regions. Off by default: with it on, `twist` showed 5
