@@ -158,6 +158,7 @@ void SelfCulling::update(const Bvh& bvh, const Positions& x_start, const Positio
   const int num_triangles = static_cast<int>(triangles.cols());
   unit_normals_.resize(3 * static_cast<size_t>(num_triangles));
   degenerate_.resize(num_triangles);
+  triangle_axes_.resize(num_triangles);
   axis_sums_.resize(num_nodes);
   std::vector<Vec3>& unit = unit_normals_;
 #pragma omp parallel for schedule(static) if (num_triangles > 4096)
@@ -168,6 +169,7 @@ void SelfCulling::update(const Bvh& bvh, const Positions& x_start, const Positio
     const std::array<Vec3, 3> normals{e1_start.cross(e2_start), 0.5 * (e1_start.cross(e2_end) + e1_end.cross(e2_start)),
                                       e1_end.cross(e2_end)};
     degenerate_[t] = !(normals[0].squaredNorm() > 0.0) || !(normals[2].squaredNorm() > 0.0);
+    triangle_axes_[t] = normals[0] + normals[2];
     for (int j = 0; j < 3; ++j) {
       const double length = normals[j].norm();
       unit[3 * t + j] = length > 0.0 ? Vec3(normals[j] / length) : Vec3::Zero();
@@ -177,12 +179,7 @@ void SelfCulling::update(const Bvh& bvh, const Positions& x_start, const Positio
   for (int k = num_nodes - 1; k >= 0; --k) {
     if (nodes[k].is_leaf()) {
       Vec3 sum = Vec3::Zero();
-      for (int i = range_begin_[k]; i < range_end_[k]; ++i) {
-        const int t = order[i];
-        const Vec3 a0 = x_start.col(triangles(0, t)), a1 = x_end.col(triangles(0, t));
-        sum += (x_start.col(triangles(1, t)) - a0).cross(x_start.col(triangles(2, t)) - a0);
-        sum += (x_end.col(triangles(1, t)) - a1).cross(x_end.col(triangles(2, t)) - a1);
-      }
+      for (int i = range_begin_[k]; i < range_end_[k]; ++i) sum += triangle_axes_[order[i]];
       axis_sums_[k] = sum;
     } else {
       axis_sums_[k] = axis_sums_[k + 1] + axis_sums_[nodes[k].right];

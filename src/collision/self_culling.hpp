@@ -69,6 +69,7 @@ class SelfCulling {
   // Per step.
   std::vector<Vec3> unit_normals_;    // 3 per triangle: n0, m, n1 normalised (zero when degenerate)
   std::vector<char> degenerate_;      // per triangle: a normal vanished, the cone cannot hold
+  std::vector<Vec3> triangle_axes_;   // per triangle: n0 + n1 (twice the area, at both ends)
   std::vector<Vec3> axis_sums_;       // per node: sum of n0 + n1 (area weighted) below it
   std::vector<char> culled_;
   SelfCullingStats stats_;
