@@ -12,27 +12,6 @@ namespace weft {
 
 namespace {
 
-ContactRecord record_of(const CollisionStep& step, const CcdCollision& collision, double impulse,
-                        const ResponseSettings& settings) {
-  // The contact point: the weighted positive side of the stencil at the time of contact.
-  Vec3 position = Vec3::Zero();
-  for (int k = 0; k < 4; ++k) {
-    if (collision.stencil.weights[k] > 0.0) {
-      const int v = collision.stencil.vertices[k];
-      position += collision.stencil.weights[k] *
-                  ((1.0 - collision.time) * step.x_start.col(v) + collision.time * step.x_end.col(v));
-    }
-  }
-  return {position,
-          collision.kind,
-          settings.thickness - collision.distance,
-          impulse,
-          collision.primitive_a,
-          collision.primitive_b,
-          ContactPartners::cloth_cloth,
-          collision.stencil.normal};
-}
-
 // Whether the boxes swept by two sets of vertices over the step come within `gap` of each other:
 // primitives whose swept boxes stay apart cannot meet, and most candidates end here.
 bool swept_boxes_overlap(const Positions& x0, const Positions& x1, std::initializer_list<int> first,
@@ -51,6 +30,26 @@ bool swept_boxes_overlap(const Positions& x0, const Positions& x1, std::initiali
 }
 
 }  // namespace
+
+ContactRecord ccd_contact_record(const CollisionStep& step, const CcdCollision& collision, double impulse,
+                                 const ResponseSettings& settings) {
+  Vec3 position = Vec3::Zero();
+  for (int k = 0; k < 4; ++k) {
+    if (collision.stencil.weights[k] > 0.0) {
+      const int v = collision.stencil.vertices[k];
+      position += collision.stencil.weights[k] *
+                  ((1.0 - collision.time) * step.x_start.col(v) + collision.time * step.x_end.col(v));
+    }
+  }
+  return {position,
+          collision.kind,
+          settings.thickness - collision.distance,
+          impulse,
+          collision.primitive_a,
+          collision.primitive_b,
+          ContactPartners::cloth_cloth,
+          collision.stencil.normal};
+}
 
 std::optional<CcdCollision> detect_collision(const CollisionStep& step, const VertexFacePair& pair,
                                              const ResponseSettings& settings) {
@@ -154,7 +153,7 @@ CcdResponseResult apply_ccd_response(CollisionStep& step, const std::vector<Vert
   const auto handle = [&](const std::optional<CcdCollision>& collision, int& found) {
     if (!collision) return;
     ++found;
-    ContactRecord record = record_of(step, *collision, 0.0, settings);  // before the motion changes
+    ContactRecord record = ccd_contact_record(step, *collision, 0.0, settings);  // before the motion changes
     record.impulse = apply_ccd_impulse(step, *collision, settings);
     if (record.impulse > 0.0) {
       ++result.impulses;

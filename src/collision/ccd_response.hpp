@@ -40,6 +40,12 @@ void detect_collisions(const CollisionStep& step, const std::vector<VertexFacePa
 double apply_ccd_impulse(CollisionStep& step, const CcdCollision& collision,
                          const ResponseSettings& settings);
 
+// The record of a collision before its impulse: the stencil's positive side at the time of
+// contact, the depth below the thickness, the given impulse (partners: cloth_cloth until the
+// caller labels them).
+ContactRecord ccd_contact_record(const CollisionStep& step, const CcdCollision& collision, double impulse,
+                                 const ResponseSettings& settings);
+
 struct CcdResponseResult {
   int passes = 0;      // detection passes run
   int impulses = 0;    // collisions acted on, over all passes

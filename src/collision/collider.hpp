@@ -25,6 +25,11 @@ struct ColliderMotion {
   // Rotation and translation that carry the collider from time 0 to time t.
   Mat3 rotation(double t) const;
   Vec3 translation(double t) const;
+  // Where a point, or each column of `rest` (both given at time 0), is at time t.
+  Vec3 place(const Vec3& point, double t) const { return rotation(t) * point + translation(t); }
+  void place(const Positions& rest, double t, Eigen::Ref<Positions> out) const {
+    out = (rotation(t) * rest).colwise() + translation(t);
+  }
 };
 
 struct Collider {

@@ -220,7 +220,7 @@ void RecordingWriter::write_frame(int frame, const World& world) {
   // Collider placement at this frame's time: where the centre is and the rotation from time 0.
   for (const Collider& collider : world.colliders()) {
     const Mat3 rotation = collider.motion.rotation(world.time());
-    const Vec3 location = rotation * collider.center + collider.motion.translation(world.time());
+    const Vec3 location = collider.motion.place(collider.center, world.time());
     const Eigen::Quaterniond q(rotation);
     std::ostringstream row;
     row << std::setprecision(17) << frame << ',' << world.time() << ',' << csv_field(collider.name) << ','

@@ -122,7 +122,7 @@ Eigen::AlignedBox3d collider_bounds(const World& world, int collider) {
   const Collider& solid = world.colliders()[collider];
   if (solid.shape == ColliderShape::plane) return box;
   if (solid.shape == ColliderShape::sphere) {  // exact, where the tessellation sticks out a little
-    const Vec3 center = solid.motion.rotation(world.time()) * solid.center + solid.motion.translation(world.time());
+    const Vec3 center = solid.motion.place(solid.center, world.time());
     return {center - Vec3::Constant(solid.radius), center + Vec3::Constant(solid.radius)};
   }
   const Positions x = world.collider_positions(collider);

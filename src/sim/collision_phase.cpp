@@ -19,13 +19,6 @@ double milliseconds_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// Collider vertices at time t: rest positions carried by the collider's motion.
-void pose_vertices(const ColliderSurface& collider, double t, Eigen::Ref<Positions> out) {
-  const Mat3 rotation = collider.motion.rotation(t);
-  const Vec3 translation = collider.motion.translation(t);
-  out = (rotation * collider.rest_positions).colwise() + translation;
-}
-
 }  // namespace
 
 void CollisionPhase::set_meshes(const std::vector<Cloth>& cloths, const std::vector<ContactMaterial>& materials,
@@ -81,7 +74,7 @@ void CollisionPhase::set_meshes(const std::vector<Cloth>& cloths, const std::vec
     } else {
       // Static colliders sit still for good; kinematic ones are posed every step.
       const ColliderSurface& collider = colliders[m - cloths.size()];
-      pose_vertices(collider, 0.0, x_start_.middleCols(slot.offsets.vertex, slot.num_vertices));
+      collider.motion.place(collider.rest_positions, 0.0, x_start_.middleCols(slot.offsets.vertex, slot.num_vertices));
       x_end_.middleCols(slot.offsets.vertex, slot.num_vertices) =
           x_start_.middleCols(slot.offsets.vertex, slot.num_vertices);
       velocity_.middleCols(slot.offsets.vertex, slot.num_vertices).setZero();
@@ -113,7 +106,9 @@ void CollisionPhase::begin_step(const std::vector<Cloth>& cloths, double t) {
   }
   for (size_t k = 0; k < colliders_.size(); ++k) {
     const MeshSlot& slot = meshes_[num_cloths_ + k];
-    if (slot.moves) pose_vertices(colliders_[k], t, x_start_.middleCols(slot.offsets.vertex, slot.num_vertices));
+    if (!slot.moves) continue;
+    colliders_[k].motion.place(colliders_[k].rest_positions, t,
+                               x_start_.middleCols(slot.offsets.vertex, slot.num_vertices));
   }
 }
 
@@ -129,7 +124,7 @@ void CollisionPhase::gather_motion(const std::vector<Cloth>& cloths, double t, d
     const MeshSlot& slot = meshes_[num_cloths_ + k];
     if (!slot.moves) continue;
     auto end = x_end_.middleCols(slot.offsets.vertex, slot.num_vertices);
-    pose_vertices(colliders_[k], t + h, end);
+    colliders_[k].motion.place(colliders_[k].rest_positions, t + h, end);
     velocity_.middleCols(slot.offsets.vertex, slot.num_vertices) =
         (end - x_start_.middleCols(slot.offsets.vertex, slot.num_vertices)) / h;
   }
@@ -320,20 +315,11 @@ void CollisionPhase::apply_ccd_impulses() {
     }
     start = Clock::now();
     for (const CcdCollision& collision : collisions_) {
-      // The contact point: the stencil's positive side at the time of contact.
-      Vec3 position = Vec3::Zero();
-      for (int k = 0; k < 4; ++k) {
-        const double weight = collision.stencil.weights[k];
-        if (weight <= 0.0) continue;
-        const int v = collision.stencil.vertices[k];
-        position += weight * ((1.0 - collision.time) * x_start_.col(v) + collision.time * x_end_.col(v));
-      }
-      const double impulse = apply_ccd_impulse(step, collision, response);
-      if (impulse > 0.0) {
+      ContactRecord record = ccd_contact_record(step, collision, 0.0, response);  // before the motion changes
+      record.impulse = apply_ccd_impulse(step, collision, response);
+      if (record.impulse > 0.0) {
         ++stats_.ccd_impulses;
-        records_.push_back({position, collision.kind, response.thickness - collision.distance, impulse,
-                            collision.primitive_a, collision.primitive_b, ContactPartners::cloth_cloth,
-                            collision.stencil.normal});
+        records_.push_back(record);
       }
     }
     stats_.response_ms += milliseconds_since(start);
@@ -354,8 +340,8 @@ void CollisionPhase::apply_impact_zones() {
 }
 
 // Phase: the corrected motion may have left the swept boxes the candidates came from, or undone
-// what let self-collision culling skip a region; if so,
-// query again and test the new candidates. Returns true when they collide.
+// what let self-collision culling skip a region; if so, query again and test the new
+// candidates. Returns true when they collide.
 bool CollisionPhase::verify_motion() {
   auto start = Clock::now();
   // A triangle whose corrected end positions stay inside its swept box (which holds its start
@@ -410,12 +396,6 @@ void CollisionPhase::scatter_motion(std::vector<Cloth>& cloths) const {
     cloths[c].state.x = x_end_.middleCols(slot.offsets.vertex, slot.num_vertices);
     cloths[c].state.v = velocity_.middleCols(slot.offsets.vertex, slot.num_vertices);
   }
-}
-
-Positions CollisionPhase::collider_positions(int collider, double t) const {
-  Positions positions(3, colliders_[collider].rest_positions.cols());
-  pose_vertices(colliders_[collider], t, positions);
-  return positions;
 }
 
 void CollisionPhase::label_records(size_t first) {

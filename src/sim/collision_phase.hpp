@@ -112,8 +112,6 @@ class CollisionPhase {
   void reset_stats() { stats_ = {}; records_.clear(); }
   // Contacts acted on in the current step (positions at the start of the step).
   const std::vector<ContactRecord>& records() const { return records_; }
-  // Collider vertices at time t (3 x n_vertices of collider k).
-  Positions collider_positions(int collider, double t) const;
 
   int num_cloths() const { return num_cloths_; }
 

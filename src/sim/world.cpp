@@ -40,8 +40,10 @@ void World::add_collider(Collider collider) {
 }
 
 Positions World::collider_positions(int collider) const {
-  const ColliderMotion& motion = colliders_[collider].motion;
-  return (motion.rotation(time_) * collider_surfaces_[collider].positions).colwise() + motion.translation(time_);
+  const Positions& rest = collider_surfaces_[collider].positions;
+  Positions positions(3, rest.cols());
+  colliders_[collider].motion.place(rest, time_, positions);
+  return positions;
 }
 
 // One time step, as the pipeline in DESIGN.md: colliders, integrator, collisions, stats.
