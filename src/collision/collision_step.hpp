@@ -26,6 +26,9 @@ struct ResponseSettings {
   double ccd_separation = 0.1;          // fraction of the thickness a CCD impulse restores as a gap
   int max_ccd_passes = 8;               // detection + impulse passes before impact zones
   int max_impact_zone_passes = 64;      // detection + zone passes before everything involved stops
+  // N/m; implicit Euler's contact penalty (0: off). Its normal impulse over the step,
+  // h kappa (thickness - distance), joins the proximity impulse in bounding Coulomb friction.
+  double penalty_stiffness = 0.0;
 };
 
 }  // namespace weft

@@ -25,7 +25,7 @@ Vec3 normal_from(const Vec3& gap, const Vec3& fallback, const Vec3& relative_vel
 }
 
 // Normal impulse and friction for one pair at `distance` < thickness; returns the magnitude of
-// the normal impulse (0 when none was needed).
+// the normal impulse, the penalty's included (0 when none acted).
 double respond(CollisionStep& step, const ContactStencil& stencil, double distance,
                const ResponseSettings& settings) {
   const double inverse_mass = inverse_effective_mass(step, stencil);
@@ -46,8 +46,15 @@ double respond(CollisionStep& step, const ContactStencil& stencil, double distan
     speed_change +=
         std::min(h * settings.repulsion_stiffness * overlap * inverse_mass, target_speed - after_inelastic);
   }
-  if (!(speed_change > 0.0)) return 0.0;
-  const double normal_impulse = speed_change / inverse_mass;
+  // The contact penalty inside implicit Euler already pushed the pair apart during the step, with
+  // about h kappa (thickness - gap) at the gap where the solve left it; that impulse counts
+  // towards the friction bound like the one above.
+  const double end_gap = stencil.normal.dot(relative_start_position(step, stencil)) + h * normal_speed;
+  const double penalty_change =
+      h * settings.penalty_stiffness * std::max(settings.thickness - end_gap, 0.0) * inverse_mass;
+  if (!(speed_change > 0.0) && !(penalty_change > 0.0)) return 0.0;
+  const double normal_impulse = std::max(speed_change, 0.0) / inverse_mass;
+  const double friction_bound = std::max(speed_change, 0.0) + std::max(penalty_change, 0.0);
 
   // Coulomb friction on the relative tangential velocity: it stops when the change needed is
   // within mu_s times the normal velocity change, else it is reduced by mu_k times that change.
@@ -55,15 +62,15 @@ double respond(CollisionStep& step, const ContactStencil& stencil, double distan
   const double tangential_speed = tangential.norm();
   Vec3 tangential_change = Vec3::Zero();
   if (tangential_speed > 0.0) {
-    if (tangential_speed <= settings.static_friction * speed_change) {
+    if (tangential_speed <= settings.static_friction * friction_bound) {
       tangential_change = -tangential;
     } else {
-      tangential_change = -std::min(settings.kinetic_friction * speed_change, tangential_speed) /
+      tangential_change = -std::min(settings.kinetic_friction * friction_bound, tangential_speed) /
                           tangential_speed * tangential;
     }
   }
   apply_impulse(step, stencil, normal_impulse * stencil.normal + tangential_change / inverse_mass);
-  return normal_impulse;
+  return friction_bound / inverse_mass;
 }
 
 }  // namespace

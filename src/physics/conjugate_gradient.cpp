@@ -21,7 +21,8 @@ void ConjugateGradientSolver::apply_preconditioner(const Eigen::VectorXd& r, Eig
 }
 
 ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hessian, const Eigen::VectorXd& b,
-                                                       Eigen::VectorXd& dx, double tolerance, int max_iterations) {
+                                                       Eigen::VectorXd& dx, double tolerance, int max_iterations,
+                                                       const Coupling* coupling) {
   const SparseHessian::Matrix& matrix = hessian.matrix();
   const Eigen::Index size = matrix.rows();
   r_.resize(size);
@@ -44,6 +45,7 @@ ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hess
   double r_norm = b_norm;
   while (report.iterations < max_iterations) {
     hessian.multiply(p_, q_);
+    if (coupling != nullptr) (*coupling)(p_, q_);
     const double curvature = p_.dot(q_);
     if (!(curvature > 0.0)) break;  // not positive definite along p (or NaN): stop with what we have
     const double alpha = rz / curvature;

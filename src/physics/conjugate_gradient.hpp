@@ -3,6 +3,7 @@
 // block-Jacobi preconditioner: the inverse of each vertex's 3x3 diagonal block of H. Against the
 // scalar (diagonal) Jacobi preconditioner it keeps the coupling between a vertex's x, y and z,
 // which a stretched membrane makes strong. Buffers are sized once; a solve allocates nothing.
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -20,9 +21,12 @@ struct ConjugateGradientReport {
 class ConjugateGradientSolver {
  public:
   // Solves hessian * dx = b from dx = 0 until |b - H dx| <= tolerance |b| or max_iterations.
-  // H must be symmetric positive definite (PSD-projected terms plus M / h^2).
+  // H must be symmetric positive definite (PSD-projected terms plus M / h^2). `coupling`, when
+  // given, adds a part of H kept out of the sparse pattern: coupling(p, y) does y += H_extra p
+  // (H_extra's diagonal blocks must already be in `hessian`, which the preconditioner reads).
+  using Coupling = std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>;
   ConjugateGradientReport solve(const SparseHessian& hessian, const Eigen::VectorXd& b, Eigen::VectorXd& dx,
-                                double tolerance, int max_iterations);
+                                double tolerance, int max_iterations, const Coupling* coupling = nullptr);
 
  private:
   void compute_preconditioner(const SparseHessian& hessian);

@@ -16,6 +16,10 @@ void ImplicitEulerSolver::prepare(const ClothModel& model) {
   rhs_.resize(3 * num_vertices_);
   dx_.resize(3 * num_vertices_);
   report_.gradient_norms.reserve(64);
+  x_linearized_.resize(3, num_vertices_);
+  coupling_ = [this](const Eigen::VectorXd& p, Eigen::VectorXd& y) {
+    penalty_->add_coupling_product(x_linearized_, free_mask_, p, y);
+  };
   ldlt_analyzed_ = false;
   prepared_ = true;
 }
@@ -33,6 +37,10 @@ double ImplicitEulerSolver::incremental_potential(const ClothModel& model, const
   if (hessian != nullptr) hessian->add_diagonal(inverse_h2 * model.mass);
   value += evaluate_potential(model, gravity, x, gradient, hessian, stencils_, /*project=*/true);
   value += evaluate_dissipation(model, x_start_, x, h, gradient, hessian, stencils_);
+  if (penalty_ != nullptr) {
+    value += penalty_->evaluate(x, gradient, hessian);
+    if (hessian != nullptr) x_linearized_ = x;
+  }
   if (gradient != nullptr) {
     Eigen::Map<Eigen::VectorXd>(gradient->data(), gradient->size()).array() *= free_mask_.array();
   }
@@ -57,14 +65,16 @@ bool ImplicitEulerSolver::solve(const ImplicitEulerSettings& settings, double cg
     dx_ = ldlt_.solve(rhs_);
     return ldlt_.info() == Eigen::Success;
   }
-  const ConjugateGradientReport cg = cg_.solve(hessian_, rhs_, dx_, cg_tolerance, settings.max_cg_iterations);
+  const ConjugateGradientReport cg =
+      cg_.solve(hessian_, rhs_, dx_, cg_tolerance, settings.max_cg_iterations, penalty_ ? &coupling_ : nullptr);
   report_.linear_iterations += cg.iterations;
   return dx_.allFinite() && cg.iterations > 0;
 }
 
 const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity, double h,
-                                              const ImplicitEulerSettings& settings) {
+                                              const ImplicitEulerSettings& settings, const ContactPenalty* penalty) {
   const ClothModel& model = cloth.model;
+  penalty_ = penalty != nullptr && penalty->active() ? penalty : nullptr;
   ClothState& state = cloth.state;
   if (!prepared_ || num_vertices_ != cloth.num_vertices()) prepare(model);
   report_.newton_iterations = 0;
@@ -120,6 +130,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     value = incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/true);
   }
   state.v = (x - x_start_) / h;
+  penalty_ = nullptr;
   return report_;
 }
 

@@ -11,6 +11,7 @@
 #include "physics/cloth.hpp"
 #include "physics/cloth_terms.hpp"
 #include "physics/conjugate_gradient.hpp"
+#include "physics/contact_penalty.hpp"
 #include "physics/sparse_hessian.hpp"
 
 namespace weft {
@@ -41,8 +42,11 @@ struct NewtonReport {
 // Preallocated storage for one cloth's implicit steps; the sparsity pattern is built on first use.
 class ImplicitEulerSolver {
  public:
-  // Advances the cloth by h. Returns the report (also kept in last_report()).
-  const NewtonReport& step(Cloth& cloth, const Vec3& gravity, double h, const ImplicitEulerSettings& settings);
+  // Advances the cloth by h. Returns the report (also kept in last_report()). `penalty`, when
+  // given and active, adds its contact energy to the incremental potential; with the Cholesky
+  // solver only its diagonal blocks enter the matrix (its coupling blocks are not in the pattern).
+  const NewtonReport& step(Cloth& cloth, const Vec3& gravity, double h, const ImplicitEulerSettings& settings,
+                           const ContactPenalty* penalty = nullptr);
   const NewtonReport& last_report() const { return report_; }
 
  private:
@@ -53,6 +57,9 @@ class ImplicitEulerSolver {
                                Positions* gradient, bool assemble);
   bool solve(const ImplicitEulerSettings& settings, double cg_tolerance);
 
+  const ContactPenalty* penalty_ = nullptr;  // during step()
+  ConjugateGradientSolver::Coupling coupling_;  // penalty coupling blocks at x_linearized_
+  Positions x_linearized_;                      // where the Hessian was last assembled
   bool prepared_ = false;
   int num_vertices_ = 0;
   SparseHessian hessian_;

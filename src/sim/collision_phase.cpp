@@ -235,6 +235,7 @@ ResponseSettings CollisionPhase::ccd_settings() const {
   response.ccd_separation = settings.ccd_separation;
   response.max_ccd_passes = settings.max_ccd_passes;
   response.max_impact_zone_passes = settings.max_impact_zone_passes;
+  response.penalty_stiffness = settings.penalty_stiffness;
   return response;
 }
 
@@ -295,6 +296,49 @@ void CollisionPhase::apply_proximity() {
   }
   label_records(first_record);
   stats_.response_ms += milliseconds_since(start);
+}
+
+void CollisionPhase::penalty_contacts(int cloth, ContactPenalty& penalty) const {
+  penalty.contacts.clear();
+  const MeshSlot& slot = meshes_[cloth];
+  const int first = slot.offsets.vertex;
+  const auto local = [&](int global) { return vertex_mesh_[global] == cloth ? global - first : -1; };
+  const Positions& x = x_start_;
+  const auto add = [&](const std::array<int, 4>& vertices, const std::array<double, 4>& weights, const Vec3& gap,
+                       double thickness) {
+    const double distance = gap.norm();
+    if (!(distance > 1e-9 * thickness) || !(distance < 2.0 * thickness)) return;
+    PenaltyContact contact{{-1, -1, -1, -1}, weights, gap / distance, 0.0, thickness};
+    bool touches = false;
+    for (int k = 0; k < 4; ++k) {
+      contact.vertices[k] = local(vertices[k]);
+      if (contact.vertices[k] >= 0) {
+        touches = true;
+      } else {
+        contact.offset += weights[k] * contact.normal.dot(x.col(vertices[k]));
+      }
+    }
+    if (touches) penalty.contacts.push_back(contact);
+  };
+  for (size_t group = 0; group < group_vertex_faces_.size(); ++group) {
+    for (const VertexFacePair& pair : group_vertex_faces_[group]) {
+      const auto corners = triangles_.col(pair.triangle);
+      const PointTriangleClosest closest =
+          point_triangle_closest(x.col(pair.vertex), x.col(corners[0]), x.col(corners[1]), x.col(corners[2]));
+      const Vec3& b = closest.barycentric;
+      add({pair.vertex, corners[0], corners[1], corners[2]}, {1.0, -b[0], -b[1], -b[2]},
+          x.col(pair.vertex) - closest.closest,
+          std::max(meshes_[vertex_mesh_[pair.vertex]].thickness, meshes_[vertex_mesh_[corners[0]]].thickness));
+    }
+    for (const EdgeEdgePair& pair : group_edge_edges_[group]) {
+      const auto a = edges_.col(pair.edge_a);
+      const auto b = edges_.col(pair.edge_b);
+      const EdgeEdgeClosest closest = edge_edge_closest(x.col(a[0]), x.col(a[1]), x.col(b[0]), x.col(b[1]));
+      add({a[0], a[1], b[0], b[1]}, {1.0 - closest.s, closest.s, -(1.0 - closest.t), -closest.t},
+          closest.point_a - closest.point_b,
+          std::max(meshes_[vertex_mesh_[a[0]]].thickness, meshes_[vertex_mesh_[b[0]]].thickness));
+    }
+  }
 }
 
 // Phase: continuous detection of every candidate over the corrected motion (in parallel), then

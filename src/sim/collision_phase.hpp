@@ -27,6 +27,7 @@
 #include "collision/impact_zones.hpp"
 #include "collision/self_culling.hpp"
 #include "core/topology.hpp"
+#include "physics/contact_penalty.hpp"
 #include "physics/cloth.hpp"
 
 namespace weft {
@@ -48,6 +49,9 @@ struct CollisionSettings {
   int max_impact_zone_passes = 64;      // zone passes before the involved vertices stop
   int max_rounds = 16;                  // CCD + zones rounds while verify_motion finds collisions
   double max_step_displacement = 100.0; // m; a vertex moving farther in one step means divergence
+  // N/m; > 0 adds the last step's proximity contacts to implicit Euler's incremental potential
+  // as a one-sided quadratic penalty (physics/contact_penalty.hpp); 0: off
+  double penalty_stiffness = 0.0;
   BvhSettings bvh;
   // Skip self tests in flat, unfolded regions. Off by default: with it on, `twist` showed 5
   // intersecting pairs at frame 33 that the run without it does not have (docs/collision.md).
@@ -107,6 +111,12 @@ class CollisionPhase {
   // Returns true when the corrected motion still collides (another round is due).
   bool verify_motion();
   void scatter_motion(std::vector<Cloth>& cloths) const;
+
+  // After begin_step, for implicit Euler's contact penalty: the pairs the last step's proximity
+  // phase acted on that are still within twice their thickness, with closest points and normals
+  // at the cloths' current positions, as contacts of cloth `cloth` (vertices of other meshes
+  // folded into the offset). Replaces penalty.contacts; allocates only to grow it.
+  void penalty_contacts(int cloth, ContactPenalty& penalty) const;
 
   const CollisionPhaseStats& stats() const { return stats_; }
   void reset_stats() { stats_ = {}; records_.clear(); }

@@ -111,6 +111,12 @@ void World::integrate(double h, StepStats& stats) {
     // never move a pinned vertex otherwise, and placing them afterwards removes round-off.
     const bool scripted = !cloth.model.scripted_pins.empty();
     if (scripted) drive_scripted_pins(cloth.model.scripted_pins, time_, h, cloth.state.x, cloth.state.v);
+    solvers.penalty.stiffness = settings.collision.enabled ? settings.collision.penalty_stiffness : 0.0;
+    if (solvers.penalty.stiffness > 0.0 && settings.integrator == IntegratorKind::implicit_euler) {
+      collisions_.penalty_contacts(static_cast<int>(c), solvers.penalty);
+    } else {
+      solvers.penalty.contacts.clear();
+    }
     integrate_cloth(cloth, solvers, h, stats);
     if (scripted) place_scripted_pins(cloth.model.scripted_pins, time_ + h, cloth.state.x);
   }
@@ -133,7 +139,7 @@ void World::integrate_cloth(Cloth& cloth, ClothSolvers& solvers, double h, StepS
       midpoint_step(cloth, settings.gravity, h, solvers.explicit_workspace);
       break;
     case IntegratorKind::implicit_euler: {
-      const NewtonReport& report = solvers.implicit.step(cloth, settings.gravity, h, settings.implicit);
+      const NewtonReport& report = solvers.implicit.step(cloth, settings.gravity, h, settings.implicit, &solvers.penalty);
       stats.newton_iterations += report.newton_iterations;
       stats.linear_iterations += report.linear_iterations;
       if (!report.gradient_norms.empty()) stats.residual = std::max(stats.residual, report.gradient_norms.back());
@@ -158,6 +164,8 @@ void World::resolve_collisions(double h, StepStats& stats) {
   if (!settings.collision.enabled || cloths_.empty()) return;
   CollisionPhase& phase = collisions_;
   phase.settings = settings.collision;
+  // The penalty acts only inside implicit Euler; the friction bound must not count it otherwise.
+  if (settings.integrator != IntegratorKind::implicit_euler) phase.settings.penalty_stiffness = 0.0;
   phase.gather_motion(cloths_, time_, h);
   if (!phase.motion_is_valid()) {
     stats.collisions_clean = false;  // diverged: left to the caller's divergence check

@@ -105,6 +105,7 @@ class World {
   // Per-cloth integrator storage, allocated on first use of each integrator.
   struct ClothSolvers {
     ImplicitEulerSolver implicit;
+    ContactPenalty penalty;  // implicit Euler: the last step's contacts (collision.penalty_stiffness)
     ExplicitWorkspace explicit_workspace;
     AdaptiveState adaptive;
     ClothState trial;

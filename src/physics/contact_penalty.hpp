@@ -1,0 +1,50 @@
+#pragma once
+// Contact penalty: the contacts the collision phase found at the start of a step, as a one-sided
+// quadratic energy inside implicit Euler's incremental potential, so that Newton's solution
+// already keeps layers apart instead of pushing them together for the collision response to
+// undo (which, in a tight twist, stretched triangles many times over). Each contact is four
+// weighted vertices with a normal frozen at the start of the step (the proximity stencil of
+// collision/contact_impulse.hpp):
+//   g(x) = n . sum_k w_k x_k + offset,   E = 1/2 kappa (delta - g)^2 if g < delta, else 0,
+// with delta the thickness and offset the part of g from vertices outside the cloth (another
+// cloth, a collider), held at their start-of-step positions. Gradient -kappa (delta - g) w_k n;
+// Hessian blocks kappa w_j w_k n n^T (PSD: kappa (delta - g) >= 0 never enters). E is C1 with a
+// piecewise-constant Hessian, so the collision response stays the guarantee of no crossing; the
+// penalty only makes the solve aware of the contacts.
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/math.hpp"
+
+namespace weft {
+
+class SparseHessian;
+
+struct PenaltyContact {
+  std::array<int, 4> vertices;  // vertex of the cloth, or -1 for one outside it (its part is in offset)
+  std::array<double, 4> weights;
+  Vec3 normal;                  // unit; g grows as the contact opens
+  double offset = 0.0;          // m
+  double thickness = 0.0;       // m, delta
+};
+
+struct ContactPenalty {
+  double stiffness = 0.0;  // N/m, kappa; 0: off
+  std::vector<PenaltyContact> contacts;
+
+  bool active() const { return stiffness > 0.0 && !contacts.empty(); }
+
+  // Energy at x; adds its gradient to `gradient` and its diagonal 3x3 blocks to `hessian` (when
+  // not null). The off-diagonal blocks stay out of the sparse pattern (contacts change every
+  // step): add_coupling_product applies them.
+  double evaluate(const Positions& x, Positions* gradient, SparseHessian* hessian) const;
+
+  // y += (off-diagonal blocks of the penalty Hessian at x) p, skipping vertices where `free` is 0
+  // (their rows and columns are identity in the Newton system). p and y are 3n vectors.
+  void add_coupling_product(const Positions& x, const Eigen::VectorXd& free, const Eigen::VectorXd& p,
+                            Eigen::VectorXd& y) const;
+};
+
+}  // namespace weft
