@@ -73,7 +73,6 @@ int main(int argc, char** argv) {
                   totals.newton_iterations, totals.linear_iterations, totals.impact_zone_vertices,
                   totals.collisions_clean ? 1 : 0, strained.found ? strained.value : 0.0);
       std::fflush(stdout);
-      if (getenv("WEFT_DEBUG_STRAIN") && strained.found) std::fprintf(stderr, "  %s\n", strained.describe().c_str());
       Instability unstable = check_state(world, StabilityLimits{});
       if (!unstable.found) unstable = check_strain(world, StabilityLimits{});
       if (unstable.found) {
