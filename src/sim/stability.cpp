@@ -144,8 +144,13 @@ Instability check_state(const World& world, const StabilityLimits& limits) {
   return {};
 }
 
-Instability check_strain(const World& world, const StabilityLimits& limits) {
-  if (limits.max_strain <= 0.0) return {};
+namespace {
+
+// Calls visit(cloth, vertex, quantity, element, strain) for every spring ("strain") and membrane
+// triangle ("membrane_strain") of every cloth, with strain = stretch - 1; stops when it returns
+// true and returns whether that happened.
+template <class Visit>
+bool visit_strains(const World& world, const Visit& visit) {
   for (size_t c = 0; c < world.cloths().size(); ++c) {
     const Cloth& cloth = world.cloths()[c];
     const SpringSet& springs = cloth.model.springs;
@@ -154,11 +159,7 @@ Instability check_strain(const World& world, const StabilityLimits& limits) {
       const int a = springs.vertices(0, s), b = springs.vertices(1, s);
       const double strain =
           (cloth.state.x.col(b) - cloth.state.x.col(a)).norm() / springs.rest_length[s] - 1.0;
-      if (strain > limits.max_strain) {
-        Instability found = at_vertex(world, c, a, "strain", strain);
-        found.element = s;
-        return found;
-      }
+      if (visit(static_cast<int>(c), a, "strain", s, strain)) return true;
     }
     // Membrane: the largest principal stretch sqrt(1 + 2 e_max) of each triangle.
     const MembraneTerm& membrane = cloth.model.membrane;
@@ -172,14 +173,33 @@ Instability check_strain(const World& world, const StabilityLimits& limits) {
               .eigenvalues()
               .maxCoeff();
       const double strain = std::sqrt(std::max(0.0, 1.0 + 2.0 * largest)) - 1.0;
-      if (strain > limits.max_strain) {
-        Instability found = at_vertex(world, c, triangles(0, t), "membrane_strain", strain);
-        found.element = t;
-        return found;
-      }
+      if (visit(static_cast<int>(c), triangles(0, t), "membrane_strain", t, strain)) return true;
     }
   }
-  return {};
+  return false;
+}
+
+}  // namespace
+
+Instability check_strain(const World& world, const StabilityLimits& limits) {
+  if (limits.max_strain <= 0.0) return {};
+  Instability found;
+  visit_strains(world, [&](int c, int vertex, const char* quantity, int element, double strain) {
+    if (!(strain > limits.max_strain)) return false;
+    found = at_vertex(world, c, vertex, quantity, strain);
+    found.element = element;
+    return true;
+  });
+  return found;
+}
+
+double largest_strain(const World& world) {
+  double largest = 0.0;
+  visit_strains(world, [&](int, int, const char*, int, double strain) {
+    largest = std::max(largest, strain);
+    return false;
+  });
+  return largest;
 }
 
 }  // namespace weft

@@ -31,5 +31,7 @@ struct Instability {
 Instability check_state(const World& world, const StabilityLimits& limits);
 // Spring and membrane strain: one pass over the springs and the membrane triangles.
 Instability check_strain(const World& world, const StabilityLimits& limits);
+// The largest strain (stretch - 1) over every spring and membrane triangle; 0 when none is stretched.
+double largest_strain(const World& world);
 
 }  // namespace weft

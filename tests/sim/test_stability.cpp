@@ -68,6 +68,11 @@ TEST(Stability, StrainPastTheBoundBlamesTheStretchedSpringKind) {
   EXPECT_EQ(found.term, "structural springs");
   EXPECT_NE(found.describe().find("stretched"), std::string::npos);
   EXPECT_FALSE(check_strain(world, StabilityLimits{100.0, 0.0}).found);
+  // The largest strain is the one a bound just below it finds, and no bound above it does.
+  const double largest = largest_strain(world);
+  EXPECT_GE(largest, found.value);
+  EXPECT_TRUE(check_strain(world, StabilityLimits{100.0, largest * 0.999}).found);
+  EXPECT_FALSE(check_strain(world, StabilityLimits{100.0, largest * 1.001}).found);
 }
 
 TEST(Stability, MembraneStrainPastTheBoundNamesTheTriangleAndBlamesTheMembrane) {
