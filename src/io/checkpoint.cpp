@@ -138,6 +138,7 @@ Checkpoint capture_checkpoint(const World& world, int frame, const std::string& 
     checkpoint.colliders.push_back(
         {collider.name, collider.center, collider.normal, collider.radius, collider.half_extents});
   }
+  checkpoint.contact_pairs = world.contact_history();
   return checkpoint;
 }
 
@@ -179,6 +180,7 @@ void restore_checkpoint(const Checkpoint& checkpoint, World& world, const std::s
     collider.radius = saved.radius;
     collider.half_extents = saved.half_extents;
   }
+  world.restore_contact_history(checkpoint.contact_pairs);
   world.set_time(checkpoint.time);
 }
 
@@ -208,6 +210,10 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
     payload.value<double>(collider.radius);
     payload.vec3(collider.half_extents);
   }
+  payload.value<uint64_t>(checkpoint.contact_pairs.size());
+  for (const auto& pair : checkpoint.contact_pairs) {
+    for (const int index : pair) payload.value<int32_t>(index);
+  }
   write_file_atomically(path, [&](std::ostream& out) {
     const uint32_t version = checkpoint_version, reserved = 0;
     const uint64_t size = payload.bytes().size(), hash = fnv1a(payload.bytes());
@@ -233,7 +239,7 @@ Checkpoint read_checkpoint(const std::string& path) {
   uint64_t size = 0, hash = 0;
   std::memcpy(&version, file.data() + 8, sizeof version);
   std::memcpy(&size, file.data() + 16, sizeof size);
-  if (version != checkpoint_version) {
+  if (version != checkpoint_version && version != 2) {
     throw IoError(path + ": checkpoint version: expected " + std::to_string(checkpoint_version) + ", got " +
                   std::to_string(version));
   }
@@ -276,7 +282,15 @@ Checkpoint read_checkpoint(const std::string& path) {
     collider.half_extents = payload.vec3("collider half_extents");
     checkpoint.colliders.push_back(std::move(collider));
   }
-  if (!payload.at_end()) throw IoError(path + ": checkpoint: unexpected bytes after the colliders");
+  if (version >= 3) {
+    const uint64_t pairs = payload.value<uint64_t>("contact pair count");
+    if (pairs > bytes.size() / 12) throw IoError(path + ": checkpoint field contact pair count: malformed or cut short");
+    checkpoint.contact_pairs.resize(pairs);
+    for (auto& pair : checkpoint.contact_pairs) {
+      for (int& index : pair) index = payload.value<int32_t>("contact pair");
+    }
+  }
+  if (!payload.at_end()) throw IoError(path + ": checkpoint: unexpected bytes after the contact pairs");
   return checkpoint;
 }
 

@@ -2,7 +2,7 @@
 // Checkpoints: the full state of a run at a frame boundary, so a killed run can resume and
 // produce exactly the frames an uninterrupted run would have.
 //
-// File layout (little-endian), version 2:
+// File layout (little-endian), version 3:
 //   char[8] "WEFTCKPT"  uint32 version  uint32 reserved (0)  uint64 payload bytes
 //   payload                                          (below)
 //   uint64 FNV-1a 64-bit hash of the payload
@@ -12,10 +12,13 @@
 //     matrix membrane rest (5 x n_triangles: dm_inverse column-major, area; 0 columns when the
 //     membrane is off);
 //   uint32 collider count, per collider: string name, vec3 center, vec3 normal, float64 radius,
-//     vec3 half_extents.
+//     vec3 half_extents;
+//   uint64 contact pair count, per pair int32 kind, a, b (World::contact_history: the last
+//     step's proximity pairs, which the contact penalty of the next step reads).
 // string: uint64 length + bytes; matrix: uint64 rows, uint64 cols, rows*cols float64 column-major.
-// Scripted pins need nothing: they follow from the time. Version 1 files (no membrane rest) are
-// refused with the version they hold.
+// Scripted pins need nothing: they follow from the time. Version 2 files (no contact pairs) are
+// read with none; version 1 files (no membrane rest) are refused with the version they hold.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -24,7 +27,7 @@
 
 namespace weft {
 
-inline constexpr unsigned checkpoint_version = 2;
+inline constexpr unsigned checkpoint_version = 3;
 
 struct ClothCheckpoint {
   std::string name;
@@ -51,6 +54,7 @@ struct Checkpoint {
   double initial_energy = 0.0;  // J, total energy at frame 0 (stats.csv's energy_dissipated)
   std::vector<ClothCheckpoint> cloths;
   std::vector<ColliderCheckpoint> colliders;
+  std::vector<std::array<int, 3>> contact_pairs;  // World::contact_history()
 };
 
 Checkpoint capture_checkpoint(const World& world, int frame, const std::string& scene_json,

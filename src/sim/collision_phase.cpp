@@ -341,6 +341,31 @@ void CollisionPhase::penalty_contacts(int cloth, ContactPenalty& penalty) const 
   }
 }
 
+std::vector<std::array<int, 3>> CollisionPhase::near_pairs() const {
+  std::vector<std::array<int, 3>> pairs;
+  for (size_t group = 0; group < group_vertex_faces_.size(); ++group) {
+    for (const VertexFacePair& pair : group_vertex_faces_[group]) pairs.push_back({0, pair.vertex, pair.triangle});
+    for (const EdgeEdgePair& pair : group_edge_edges_[group]) pairs.push_back({1, pair.edge_a, pair.edge_b});
+  }
+  return pairs;
+}
+
+void CollisionPhase::set_near_pairs(const std::vector<std::array<int, 3>>& pairs) {
+  for (auto& group : group_vertex_faces_) group.clear();
+  for (auto& group : group_edge_edges_) group.clear();
+  const int vertices = static_cast<int>(x_start_.cols());
+  const int triangles = static_cast<int>(triangles_.cols());
+  const int edges = static_cast<int>(edges_.cols());
+  const auto in = [](int index, int size) { return index >= 0 && index < size; };
+  for (const auto& [kind, a, b] : pairs) {
+    if (kind == 0 && in(a, vertices) && in(b, triangles)) {
+      group_vertex_faces_[material_group(vertex_mesh_[a], vertex_mesh_[triangles_(0, b)])].push_back({a, b});
+    } else if (kind == 1 && in(a, edges) && in(b, edges)) {
+      group_edge_edges_[material_group(vertex_mesh_[edges_(0, a)], vertex_mesh_[edges_(0, b)])].push_back({a, b});
+    }
+  }
+}
+
 // Phase: continuous detection of every candidate over the corrected motion (in parallel), then
 // an inelastic impulse on each collision found, pass after pass until one finds none.
 void CollisionPhase::apply_ccd_impulses() {

@@ -16,6 +16,7 @@
 //   scatter_motion          the corrected positions and velocities back into the cloths
 // Colliders are triangle meshes of infinite mass; kinematic ones move from their pose at t to
 // their pose at t + h over the step.
+#include <array>
 #include <vector>
 
 #include "collision/bvh.hpp"
@@ -117,6 +118,12 @@ class CollisionPhase {
   // at the cloths' current positions, as contacts of cloth `cloth` (vertices of other meshes
   // folded into the offset). Replaces penalty.contacts; allocates only to grow it.
   void penalty_contacts(int cloth, ContactPenalty& penalty) const;
+
+  // The last step's proximity pairs (what penalty_contacts reads), for checkpoints: {0, vertex,
+  // triangle} for vertex-face, {1, edge_a, edge_b} for edge-edge, in combined indices. Setting
+  // them needs set_meshes first; pairs out of range are dropped.
+  std::vector<std::array<int, 3>> near_pairs() const;
+  void set_near_pairs(const std::vector<std::array<int, 3>>& pairs);
 
   const CollisionPhaseStats& stats() const { return stats_; }
   void reset_stats() { stats_ = {}; records_.clear(); }

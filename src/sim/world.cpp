@@ -94,6 +94,10 @@ void World::move_colliders(double /*h*/) {
     collision_meshes_stale_ = false;
   }
   collisions_.update_parameters(cloths_, materials_, colliders_);
+  if (near_pairs_restored_) {
+    collisions_.set_near_pairs(restored_near_pairs_);
+    near_pairs_restored_ = false;
+  }
   collisions_.begin_step(cloths_, time_);
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // The World owns the cloths and colliders and advances them through the step pipeline
 // (DESIGN.md, "One time step"). There is no global world: the caller owns each one.
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -87,6 +88,13 @@ class World {
   // viewer's mouse spring. Held constant over a step and applied by every integrator as the
   // velocity impulse h f / m before it runs (exact for symplectic and implicit Euler).
   Positions& external_force(int cloth) { return external_forces_.at(static_cast<size_t>(cloth)); }
+  // The collision phase's last proximity pairs (the contact penalty's input), for checkpoints;
+  // a restored list takes effect at the next step.
+  std::vector<std::array<int, 3>> contact_history() const { return collisions_.near_pairs(); }
+  void restore_contact_history(std::vector<std::array<int, 3>> pairs) {
+    restored_near_pairs_ = std::move(pairs);
+    near_pairs_restored_ = true;
+  }
   const StepStats& last_step_stats() const { return stats_; }
   // Contacts the collision response acted on in the last step (every sub-step).
   const std::vector<ContactRecord>& contacts() const { return collisions_.records(); }
@@ -123,6 +131,8 @@ class World {
   std::vector<TriangleMesh> collider_surfaces_;  // at time 0
   std::vector<ContactMaterial> materials_;       // per cloth
   CollisionPhase collisions_;
+  std::vector<std::array<int, 3>> restored_near_pairs_;  // restore_contact_history, until the next step
+  bool near_pairs_restored_ = false;
   bool collision_meshes_stale_ = true;           // cloths or colliders added since the last step
   std::vector<Positions> external_forces_;       // one per cloth (3 x n_vertices)
   double time_ = 0.0;

@@ -122,6 +122,44 @@ TEST(Checkpoint, PlasticRestShapesAreRestoredAndTheRunContinuesBitIdentically) {
   EXPECT_TRUE(resumed.cloths()[0].state.v == original.cloths()[0].state.v);
 }
 
+// The contact penalty reads the last step's proximity pairs: a checkpoint taken while the cloth
+// lies on the sphere must carry them, or the resumed run's first step differs.
+TEST(Checkpoint, ContactPenaltyPairsAreRestoredAndTheRunContinuesBitIdentically) {
+  TempDir dir("weft_checkpoint_penalty");
+  const auto make = [] {
+    const auto document = nlohmann::json::parse(R"({
+      "solver": {"time_step": 0.004166666666666667, "integrator": "implicit_euler"},
+      "collision": {"penalty_stiffness": 1000},
+      "cloths": [{"name": "sheet", "grid": {"size": [1, 1], "resolution": [8, 8]},
+                  "transform": {"translation": [0, 0.32, 0], "rotation_degrees": [-90, 0, 0]}}],
+      "colliders": [{"type": "sphere", "name": "ball", "radius": 0.3}]
+    })");
+    return build_world(parse_scene(document, "<inline>"));
+  };
+  World original = make();
+  for (int step = 0; step < 60; ++step) original.step();
+  ASSERT_GT(original.last_step_stats().proximity_contacts, 0) << "the test needs the cloth on the sphere";
+  ASSERT_FALSE(original.contact_history().empty());
+  write_checkpoint(dir.file("checkpoint.bin"), capture_checkpoint(original, 1, "{}", 0.0));
+  const Checkpoint read = read_checkpoint(dir.file("checkpoint.bin"));
+  EXPECT_EQ(read.contact_pairs, original.contact_history());
+
+  World resumed = make();
+  restore_checkpoint(read, resumed, "checkpoint.bin");
+  World forgetful = make();  // the same state without the pairs: what version 2 did
+  Checkpoint without_pairs = read;
+  without_pairs.contact_pairs.clear();
+  restore_checkpoint(without_pairs, forgetful, "checkpoint.bin");
+  for (int step = 0; step < 20; ++step) {
+    original.step();
+    resumed.step();
+    forgetful.step();
+  }
+  EXPECT_TRUE(resumed.cloths()[0].state.x == original.cloths()[0].state.x);
+  EXPECT_TRUE(resumed.cloths()[0].state.v == original.cloths()[0].state.v);
+  EXPECT_FALSE(forgetful.cloths()[0].state.x == original.cloths()[0].state.x);
+}
+
 TEST(Checkpoint, KeepsRestPositionsAndColliders) {
   TempDir dir("weft_checkpoint_rest");
   World world = small_world("symplectic_euler", false);
