@@ -52,9 +52,9 @@ double respond(CollisionStep& step, const ContactStencil& stencil, double distan
   const double end_gap = stencil.normal.dot(relative_start_position(step, stencil)) + h * normal_speed;
   const double penalty_change =
       h * settings.penalty_stiffness * std::max(settings.thickness - end_gap, 0.0) * inverse_mass;
-  if (!(speed_change > 0.0) && !(penalty_change > 0.0)) return 0.0;
-  const double normal_impulse = std::max(speed_change, 0.0) / inverse_mass;
-  const double friction_bound = std::max(speed_change, 0.0) + std::max(penalty_change, 0.0);
+  const double friction_bound = speed_change + penalty_change;  // both >= 0
+  if (!(friction_bound > 0.0)) return 0.0;
+  const double normal_impulse = speed_change / inverse_mass;
 
   // Coulomb friction on the relative tangential velocity: it stops when the change needed is
   // within mu_s times the normal velocity change, else it is reduced by mu_k times that change.

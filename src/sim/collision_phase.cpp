@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "collision/contact_impulse.hpp"
 #include "collision/edge_edge.hpp"
 #include "collision/point_triangle.hpp"
 #include "collision/proximity_response.hpp"
@@ -239,6 +240,18 @@ ResponseSettings CollisionPhase::ccd_settings() const {
   return response;
 }
 
+double CollisionPhase::pair_thickness(int vertex_a, int vertex_b) const {
+  return std::max(meshes_[vertex_mesh_[vertex_a]].thickness, meshes_[vertex_mesh_[vertex_b]].thickness);
+}
+
+int CollisionPhase::vertex_face_group(const VertexFacePair& pair) const {
+  return material_group(vertex_mesh_[pair.vertex], vertex_mesh_[triangles_(0, pair.triangle)]);
+}
+
+int CollisionPhase::edge_edge_group(const EdgeEdgePair& pair) const {
+  return material_group(vertex_mesh_[edges_(0, pair.edge_a)], vertex_mesh_[edges_(0, pair.edge_b)]);
+}
+
 // Phase: pairs closer than their thickness at the start of the step (tested in parallel), then
 // repulsion and friction impulses group by group of material pairs.
 void CollisionPhase::apply_proximity() {
@@ -248,9 +261,6 @@ void CollisionPhase::apply_proximity() {
   near_vertex_face_.assign(vertex_faces.size(), 0);
   near_edge_edge_.assign(edge_edges.size(), 0);
   const Positions& x = x_start_;
-  const auto thickness_of = [&](int vertex_a, int vertex_b) {
-    return std::max(meshes_[vertex_mesh_[vertex_a]].thickness, meshes_[vertex_mesh_[vertex_b]].thickness);
-  };
   const int num_vertex_faces = static_cast<int>(vertex_faces.size());
   const int num_edge_edges = static_cast<int>(edge_edges.size());
 #pragma omp parallel for schedule(static) if (num_vertex_faces > 1024)
@@ -259,7 +269,7 @@ void CollisionPhase::apply_proximity() {
     const auto corners = triangles_.col(pair.triangle);
     const double distance =
         point_triangle_closest(x.col(pair.vertex), x.col(corners[0]), x.col(corners[1]), x.col(corners[2])).distance;
-    near_vertex_face_[k] = distance < thickness_of(pair.vertex, corners[0]);
+    near_vertex_face_[k] = distance < pair_thickness(pair.vertex, corners[0]);
   }
 #pragma omp parallel for schedule(static) if (num_edge_edges > 1024)
   for (int k = 0; k < num_edge_edges; ++k) {
@@ -267,21 +277,17 @@ void CollisionPhase::apply_proximity() {
     const auto a = edges_.col(pair.edge_a);
     const auto b = edges_.col(pair.edge_b);
     const double distance = edge_edge_closest(x.col(a[0]), x.col(a[1]), x.col(b[0]), x.col(b[1])).distance;
-    near_edge_edge_[k] = distance < thickness_of(a[0], b[0]);
+    near_edge_edge_[k] = distance < pair_thickness(a[0], b[0]);
   }
   for (auto& group : group_vertex_faces_) group.clear();
   for (auto& group : group_edge_edges_) group.clear();
   for (int k = 0; k < num_vertex_faces; ++k) {
     if (!near_vertex_face_[k]) continue;
-    const VertexFacePair& pair = vertex_faces[k];
-    const int group = material_group(vertex_mesh_[pair.vertex], vertex_mesh_[triangles_(0, pair.triangle)]);
-    group_vertex_faces_[group].push_back(pair);
+    group_vertex_faces_[vertex_face_group(vertex_faces[k])].push_back(vertex_faces[k]);
   }
   for (int k = 0; k < num_edge_edges; ++k) {
     if (!near_edge_edge_[k]) continue;
-    const EdgeEdgePair& pair = edge_edges[k];
-    const int group = material_group(vertex_mesh_[edges_(0, pair.edge_a)], vertex_mesh_[edges_(0, pair.edge_b)]);
-    group_edge_edges_[group].push_back(pair);
+    group_edge_edges_[edge_edge_group(edge_edges[k])].push_back(edge_edges[k]);
   }
   stats_.narrow_ms += milliseconds_since(start);
 
@@ -298,24 +304,24 @@ void CollisionPhase::apply_proximity() {
   stats_.response_ms += milliseconds_since(start);
 }
 
-void CollisionPhase::penalty_contacts(int cloth, ContactPenalty& penalty) const {
+void CollisionPhase::penalty_contacts(int cloth, ContactPenalty& penalty) {
   penalty.contacts.clear();
-  const MeshSlot& slot = meshes_[cloth];
-  const int first = slot.offsets.vertex;
-  const auto local = [&](int global) { return vertex_mesh_[global] == cloth ? global - first : -1; };
+  const int first = meshes_[cloth].offsets.vertex;
   const Positions& x = x_start_;
-  const auto add = [&](const std::array<int, 4>& vertices, const std::array<double, 4>& weights, const Vec3& gap,
-                       double thickness) {
+  const CollisionStep step = make_step();
+  // The stencil's vertices in the cloth become its own; the others fold into the offset.
+  const auto add = [&](const ContactStencil& stencil, const Vec3& gap, double thickness) {
     const double distance = gap.norm();
     if (!(distance > 1e-9 * thickness) || !(distance < 2.0 * thickness)) return;
-    PenaltyContact contact{{-1, -1, -1, -1}, weights, gap / distance, 0.0, thickness};
+    PenaltyContact contact{{-1, -1, -1, -1}, stencil.weights, gap / distance, 0.0, thickness};
     bool touches = false;
     for (int k = 0; k < 4; ++k) {
-      contact.vertices[k] = local(vertices[k]);
-      if (contact.vertices[k] >= 0) {
+      const int v = stencil.vertices[k];
+      if (vertex_mesh_[v] == cloth) {
+        contact.vertices[k] = v - first;
         touches = true;
       } else {
-        contact.offset += weights[k] * contact.normal.dot(x.col(vertices[k]));
+        contact.offset += stencil.weights[k] * contact.normal.dot(x.col(v));
       }
     }
     if (touches) penalty.contacts.push_back(contact);
@@ -325,18 +331,15 @@ void CollisionPhase::penalty_contacts(int cloth, ContactPenalty& penalty) const 
       const auto corners = triangles_.col(pair.triangle);
       const PointTriangleClosest closest =
           point_triangle_closest(x.col(pair.vertex), x.col(corners[0]), x.col(corners[1]), x.col(corners[2]));
-      const Vec3& b = closest.barycentric;
-      add({pair.vertex, corners[0], corners[1], corners[2]}, {1.0, -b[0], -b[1], -b[2]},
-          x.col(pair.vertex) - closest.closest,
-          std::max(meshes_[vertex_mesh_[pair.vertex]].thickness, meshes_[vertex_mesh_[corners[0]]].thickness));
+      add(vertex_face_stencil(step, pair.vertex, pair.triangle, closest.barycentric, Vec3::Zero()),
+          x.col(pair.vertex) - closest.closest, pair_thickness(pair.vertex, corners[0]));
     }
     for (const EdgeEdgePair& pair : group_edge_edges_[group]) {
       const auto a = edges_.col(pair.edge_a);
       const auto b = edges_.col(pair.edge_b);
       const EdgeEdgeClosest closest = edge_edge_closest(x.col(a[0]), x.col(a[1]), x.col(b[0]), x.col(b[1]));
-      add({a[0], a[1], b[0], b[1]}, {1.0 - closest.s, closest.s, -(1.0 - closest.t), -closest.t},
-          closest.point_a - closest.point_b,
-          std::max(meshes_[vertex_mesh_[a[0]]].thickness, meshes_[vertex_mesh_[b[0]]].thickness));
+      add(edge_edge_stencil(step, pair.edge_a, pair.edge_b, closest.s, closest.t, Vec3::Zero()),
+          closest.point_a - closest.point_b, pair_thickness(a[0], b[0]));
     }
   }
 }
@@ -359,9 +362,11 @@ void CollisionPhase::set_near_pairs(const std::vector<std::array<int, 3>>& pairs
   const auto in = [](int index, int size) { return index >= 0 && index < size; };
   for (const auto& [kind, a, b] : pairs) {
     if (kind == 0 && in(a, vertices) && in(b, triangles)) {
-      group_vertex_faces_[material_group(vertex_mesh_[a], vertex_mesh_[triangles_(0, b)])].push_back({a, b});
+      const VertexFacePair pair{a, b};
+      group_vertex_faces_[vertex_face_group(pair)].push_back(pair);
     } else if (kind == 1 && in(a, edges) && in(b, edges)) {
-      group_edge_edges_[material_group(vertex_mesh_[edges_(0, a)], vertex_mesh_[edges_(0, b)])].push_back({a, b});
+      const EdgeEdgePair pair{a, b};
+      group_edge_edges_[edge_edge_group(pair)].push_back(pair);
     }
   }
 }

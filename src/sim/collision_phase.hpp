@@ -117,7 +117,7 @@ class CollisionPhase {
   // phase acted on that are still within twice their thickness, with closest points and normals
   // at the cloths' current positions, as contacts of cloth `cloth` (vertices of other meshes
   // folded into the offset). Replaces penalty.contacts; allocates only to grow it.
-  void penalty_contacts(int cloth, ContactPenalty& penalty) const;
+  void penalty_contacts(int cloth, ContactPenalty& penalty);
 
   // The last step's proximity pairs (what penalty_contacts reads), for checkpoints: {0, vertex,
   // triangle} for vertex-face, {1, edge_a, edge_b} for edge-edge, in combined indices. Setting
@@ -151,6 +151,10 @@ class CollisionPhase {
   void refit_bounding_volumes();
   void query_candidates(CollisionCandidates& candidates);
   int material_group(int mesh_a, int mesh_b) const;
+  int vertex_face_group(const VertexFacePair& pair) const;
+  int edge_edge_group(const EdgeEdgePair& pair) const;
+  // Contact distance of a pair: the larger thickness of the two meshes.
+  double pair_thickness(int vertex_a, int vertex_b) const;
   ResponseSettings response_settings(int group) const;
   ResponseSettings ccd_settings() const;
   double box_margin() const { return 0.5 * max_thickness_; }
