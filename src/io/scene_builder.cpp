@@ -182,6 +182,7 @@ World build_world(const SceneDesc& scene) {
   world.settings.substeps = scene.substeps;
   world.settings.gravity = scene.gravity;
   world.settings.implicit = scene.implicit;
+  world.settings.xpbd = scene.xpbd;
   world.settings.adaptive = scene.adaptive;
   world.settings.collision = scene.collision;
   for (size_t k = 0; k < scene.cloths.size(); ++k) {

@@ -172,7 +172,8 @@ const std::vector<std::pair<std::string, ColliderShape>> collider_shape_names = 
 const std::vector<std::pair<std::string, IntegratorKind>> integrator_names = {
     {"symplectic_euler", IntegratorKind::symplectic_euler},
     {"midpoint", IntegratorKind::midpoint},
-    {"implicit_euler", IntegratorKind::implicit_euler}};
+    {"implicit_euler", IntegratorKind::implicit_euler},
+    {"xpbd", IntegratorKind::xpbd}};
 const std::vector<std::pair<std::string, LinearSolverKind>> linear_solver_names = {
     {"conjugate_gradient", LinearSolverKind::conjugate_gradient}, {"cholesky", LinearSolverKind::cholesky}};
 const std::vector<std::string> corner_names = {"bottom_left", "bottom_right", "top_left", "top_right"};
@@ -462,6 +463,12 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
       newton.integer("max_cg_iterations", scene.implicit.max_cg_iterations, 1, 1000000);
       newton.finish();
     }
+    if (const json* xpbd_value = solver.find("xpbd")) {
+      ObjectReader xpbd(*xpbd_value, "/solver/xpbd", file);
+      xpbd.integer("substeps", scene.xpbd.substeps, 1, 100000);
+      xpbd.integer("iterations", scene.xpbd.iterations, 1, 100000);
+      xpbd.finish();
+    }
     if (const json* adaptive_value = solver.find("adaptive")) {
       ObjectReader adaptive(*adaptive_value, "/solver/adaptive", file);
       adaptive.boolean("enabled", scene.adaptive.enabled);
@@ -583,6 +590,7 @@ json scene_to_json(const SceneDesc& scene) {
                           {"cg_tolerance", scene.implicit.cg_tolerance},
                           {"cg_initial_tolerance", scene.implicit.cg_initial_tolerance},
                           {"max_cg_iterations", scene.implicit.max_cg_iterations}}},
+                        {"xpbd", {{"substeps", scene.xpbd.substeps}, {"iterations", scene.xpbd.iterations}}},
                         {"adaptive",
                          {{"enabled", scene.adaptive.enabled},
                           {"tolerance", scene.adaptive.tolerance},

@@ -10,13 +10,16 @@ const char* to_string(IntegratorKind kind) {
       return "midpoint";
     case IntegratorKind::implicit_euler:
       return "implicit_euler";
+    case IntegratorKind::xpbd:
+      return "xpbd";
   }
   return "unknown";
 }
 
 bool integrator_from_string(const std::string& name, IntegratorKind& kind) {
   for (IntegratorKind candidate :
-       {IntegratorKind::symplectic_euler, IntegratorKind::midpoint, IntegratorKind::implicit_euler}) {
+       {IntegratorKind::symplectic_euler, IntegratorKind::midpoint, IntegratorKind::implicit_euler,
+        IntegratorKind::xpbd}) {
     if (name == to_string(candidate)) {
       kind = candidate;
       return true;

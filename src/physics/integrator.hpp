@@ -8,6 +8,7 @@ enum class IntegratorKind {
   symplectic_euler,  // explicit, first order, conditionally stable
   midpoint,          // explicit, second order (physics/midpoint_euler.hpp)
   implicit_euler,    // backward Euler by Newton on the incremental potential (physics/implicit_euler.hpp)
+  xpbd,              // implicit Euler's model by XPBD sub-steps: the fast end (physics/xpbd.hpp)
 };
 
 const char* to_string(IntegratorKind kind);

@@ -8,6 +8,7 @@
 #include "core/mesh_generators.hpp"
 #include "physics/adaptive_stepping.hpp"
 #include "physics/implicit_euler.hpp"
+#include "physics/xpbd.hpp"
 #include "physics/integrator.hpp"
 #include "physics/membrane_stvk.hpp"
 #include "sim/collision_phase.hpp"
@@ -97,6 +98,7 @@ struct SceneDesc {
   double time_step = 1.0 / 600.0; // s, the largest step; each frame is cut into equal steps <= this
   int substeps = 1;               // integration sub-steps per time step
   ImplicitEulerSettings implicit; // "solver": {"newton": ...}
+  XpbdSettings xpbd;              // "solver": {"xpbd": ...}
   AdaptiveSettings adaptive;      // "solver": {"adaptive": ...}
   double fps = 30.0;              // recorded frames per simulated second
   int frames = 90;                // frames to simulate (the initial state is frame 0)

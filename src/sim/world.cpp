@@ -127,7 +127,9 @@ void World::integrate(double h, StepStats& stats) {
 }
 
 void World::integrate_cloth(Cloth& cloth, ClothSolvers& solvers, double h, StepStats& stats) {
-  if (settings.integrator != IntegratorKind::implicit_euler && settings.adaptive.enabled) {
+  const bool explicit_integrator =
+      settings.integrator == IntegratorKind::symplectic_euler || settings.integrator == IntegratorKind::midpoint;
+  if (explicit_integrator && settings.adaptive.enabled) {
     const int accepted = solvers.adaptive.accepted, rejected = solvers.adaptive.rejected;
     adaptive_advance(cloth, settings.integrator, settings.gravity, h, settings.adaptive, solvers.adaptive,
                      solvers.explicit_workspace, solvers.trial);
@@ -149,6 +151,9 @@ void World::integrate_cloth(Cloth& cloth, ClothSolvers& solvers, double h, StepS
       if (!report.gradient_norms.empty()) stats.residual = std::max(stats.residual, report.gradient_norms.back());
       break;
     }
+    case IntegratorKind::xpbd:
+      solvers.xpbd.step(cloth, settings.gravity, h, settings.xpbd);
+      break;
   }
 }
 

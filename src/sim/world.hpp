@@ -12,6 +12,7 @@
 #include "physics/implicit_euler.hpp"
 #include "physics/integrator.hpp"
 #include "physics/midpoint_euler.hpp"
+#include "physics/xpbd.hpp"
 #include "sim/collision_phase.hpp"
 
 namespace weft {
@@ -22,6 +23,7 @@ struct SolverSettings {
   int substeps = 1;                // integration sub-steps of h / substeps inside one step
   Vec3 gravity{0.0, -9.81, 0.0};   // m/s^2
   ImplicitEulerSettings implicit;  // Newton and linear solver (implicit_euler)
+  XpbdSettings xpbd;               // sub-steps and sweeps (xpbd)
   AdaptiveSettings adaptive;       // adaptive sub-stepping (symplectic_euler, midpoint)
   int threads = 1;                 // OpenMP threads for the step (1: serial; results do not depend on it)
   CollisionSettings collision;     // the collision phase (collision_phase.hpp)
@@ -113,6 +115,7 @@ class World {
   // Per-cloth integrator storage, allocated on first use of each integrator.
   struct ClothSolvers {
     ImplicitEulerSolver implicit;
+    XpbdSolver xpbd;
     ContactPenalty penalty;  // implicit Euler: the last step's contacts (collision.penalty_stiffness)
     ExplicitWorkspace explicit_workspace;
     AdaptiveState adaptive;

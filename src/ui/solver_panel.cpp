@@ -28,7 +28,7 @@ void draw_solver_panel(SimulationSession& session) {
   SolverSettings& settings = session.world().settings;
   // Switching integrators between steps is safe: each keeps its own storage per cloth.
   const IntegratorKind kinds[] = {IntegratorKind::symplectic_euler, IntegratorKind::midpoint,
-                                  IntegratorKind::implicit_euler};
+                                  IntegratorKind::implicit_euler, IntegratorKind::xpbd};
   if (ImGui::BeginCombo("integrator", to_string(settings.integrator))) {
     for (IntegratorKind kind : kinds) {
       if (ImGui::Selectable(to_string(kind), kind == settings.integrator)) settings.integrator = kind;
@@ -53,6 +53,11 @@ void draw_solver_panel(SimulationSession& session) {
       settings.implicit.linear_solver = solver == 1 ? LinearSolverKind::cholesky : LinearSolverKind::conjugate_gradient;
     }
     input_double("CG tolerance", settings.implicit.cg_tolerance, 1e-14, "%.2e");
+    ImGui::TreePop();
+  }
+  if (ImGui::TreeNodeEx("XPBD", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::SliderInt("XPBD substeps", &settings.xpbd.substeps, 1, 64);
+    ImGui::SliderInt("XPBD iterations", &settings.xpbd.iterations, 1, 64);
     ImGui::TreePop();
   }
   if (ImGui::TreeNodeEx("Adaptive stepping (explicit)", ImGuiTreeNodeFlags_DefaultOpen)) {

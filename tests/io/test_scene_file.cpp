@@ -92,6 +92,24 @@ TEST(SceneFile, OutOfRangeValuesAreRejected) {
                      "expected one of");
 }
 
+TEST(SceneFile, XpbdKeysAreReadCheckedAndRoundTrip) {
+  json document = json::parse(minimal_scene);
+  apply_override(document, "solver.integrator=xpbd", "scene.json");
+  apply_override(document, "solver.xpbd={\"substeps\": 12, \"iterations\": 3}", "scene.json");
+  const SceneDesc scene = parse_scene(document, "scene.json");
+  EXPECT_EQ(scene.integrator, IntegratorKind::xpbd);
+  EXPECT_EQ(scene.xpbd.substeps, 12);
+  EXPECT_EQ(scene.xpbd.iterations, 3);
+  const World world = build_world(scene);
+  EXPECT_EQ(world.settings.xpbd.substeps, 12);
+  const SceneDesc again = parse_scene(scene_to_json(scene), "scene.json");
+  EXPECT_EQ(again.xpbd.substeps, 12);
+  EXPECT_EQ(again.xpbd.iterations, 3);
+  expect_scene_error(minimal_scene, {"solver.xpbd.substeps=0"}, "/solver/xpbd/substeps", "expected an integer in [1,");
+  expect_scene_error(minimal_scene, {"solver.xpbd.iterations=1.5"}, "/solver/xpbd/iterations", "expected an integer");
+  expect_scene_error(minimal_scene, {"solver.xpbd.sweeps=2"}, "/solver/xpbd/sweeps", "unknown");
+}
+
 TEST(SceneFile, NonFiniteNumbersAreRejected) {
   // JSON has no NaN literal: "nan" on the command line arrives as a string, 1e999 overflows to infinity.
   expect_scene_error(minimal_scene, {"solver.time_step=nan"}, "/solver/time_step", "expected a number > 0");

@@ -17,6 +17,7 @@
 #include "physics/implicit_euler.hpp"
 #include "physics/midpoint_euler.hpp"
 #include "physics/symplectic_euler.hpp"
+#include "physics/xpbd.hpp"
 #include "support/spring_cloth.hpp"
 
 namespace weft {
@@ -259,11 +260,13 @@ TEST(IntegratorStability, FreeFallChangesMomentumByExactlyMassTimesGravityTimesT
   adaptive.tolerance = 1e-5;
   AdaptiveState adaptive_state;
   ClothState trial;
+  XpbdSolver xpbd;
   const std::vector<std::pair<const char*, std::function<void(Cloth&)>>> integrators = {
       {"symplectic_euler", [&](Cloth& c) { symplectic_euler_step(c, gravity, h); }},
       {"midpoint", [&](Cloth& c) { midpoint_step(c, gravity, h, workspace); }},
       {"implicit_euler (cholesky)", [&](Cloth& c) { solver.step(c, gravity, h, cholesky); }},
       {"implicit_euler (cg)", [&](Cloth& c) { solver.step(c, gravity, h, conjugate_gradient); }},
+      {"xpbd", [&](Cloth& c) { xpbd.step(c, gravity, h, XpbdSettings{3, 2}); }},
       {"adaptive symplectic_euler",
        [&](Cloth& c) {
          adaptive_advance(c, IntegratorKind::symplectic_euler, gravity, h, adaptive, adaptive_state, workspace, trial);
