@@ -2,7 +2,8 @@
 // pinned at two corners, default springs, falling under gravity; with 1 and 2 threads.
 //   build/release/bench/weft_bench --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 // Explicit integrators step at a quarter of their stability limit for the grid (it shrinks as
-// 1/n); implicit Euler steps at the scene default 1/600 s with its default CG solve.
+// 1/n); implicit Euler steps at the scene default 1/600 s with its default CG solve, XPBD at
+// 1/600 s with its default 4 sub-steps of one sweep (serial: its threads count changes nothing).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -19,12 +20,12 @@ World grid_world(int n, IntegratorKind integrator) {
   cloth.grid_width = cloth.grid_height = 1.0;
   cloth.translation = Vec3(0.0, 1.0, 0.0);
   cloth.rotation_degrees = Vec3(-90.0, 0.0, 0.0);
-  cloth.pin_corners = {"top_left", "top_right"};
+  cloth.pins.corners = {"top_left", "top_right"};
   SceneDesc scene;
   scene.integrator = integrator;
   scene.cloths.push_back(cloth);
   World world = build_world(scene);
-  if (integrator != IntegratorKind::implicit_euler) {
+  if (integrator == IntegratorKind::symplectic_euler || integrator == IntegratorKind::midpoint) {
     // 2 sqrt(m / (2 k_sum)) bounds the limit from below (k_sum: springs pulling on one vertex).
     const double vertex_mass = cloth.density * cloth.grid_width * cloth.grid_height / (n * n);
     const double k_sum = 4.0 * (cloth.structural.stiffness + cloth.shear.stiffness + cloth.bend.stiffness);
@@ -64,6 +65,7 @@ void grid_sizes_and_threads(benchmark::internal::Benchmark* benchmark) {
 BENCHMARK_CAPTURE(step_benchmark, symplectic_euler, IntegratorKind::symplectic_euler)->Apply(grid_sizes_and_threads);
 BENCHMARK_CAPTURE(step_benchmark, midpoint, IntegratorKind::midpoint)->Apply(grid_sizes_and_threads);
 BENCHMARK_CAPTURE(step_benchmark, implicit_euler, IntegratorKind::implicit_euler)->Apply(grid_sizes_and_threads);
+BENCHMARK_CAPTURE(step_benchmark, xpbd, IntegratorKind::xpbd)->Apply(grid_sizes_and_threads);
 
 }  // namespace
 }  // namespace weft

@@ -26,10 +26,11 @@ void project_element(const int (&v)[N], double energy, const Eigen::Matrix<doubl
   for (int k = 0; k < N; ++k) x.col(v[k]) += (inverse_mass[v[k]] * scale) * gradient.template segment<3>(3 * k);
 }
 
-// Spring damping gamma ((vj - vi) . d) d / |d|^2 on i (and its opposite on j), added to `force`.
+// Damping gamma ((vj - vi) . d) d / |d|^2 on i (and its opposite on j) of the springs without
+// stiffness, added to `force` (springs with stiffness are damped implicitly in sweep()).
 void add_spring_damping_forces(const SpringSet& springs, const Positions& x, const Positions& v, Positions& force) {
   for (int s = 0; s < springs.size(); ++s) {
-    if (springs.damping[s] == 0.0) continue;
+    if (springs.damping[s] == 0.0 || springs.stiffness[s] > 0.0) continue;  // the others damp in sweep()
     const int i = springs.vertices(0, s), j = springs.vertices(1, s);
     const Vec3 d = x.col(j) - x.col(i);
     const double length_squared = d.squaredNorm();
@@ -41,7 +42,7 @@ void add_spring_damping_forces(const SpringSet& springs, const Positions& x, con
 }
 
 bool any_spring_damping(const SpringSet& springs) {
-  return springs.size() > 0 && (springs.damping.array() != 0.0).any();
+  return springs.size() > 0 && (springs.damping.array() != 0.0 && springs.stiffness.array() == 0.0).any();
 }
 
 }  // namespace
@@ -121,18 +122,26 @@ void XpbdSolver::predict(const ClothModel& model, ClothState& state, const Vec3&
 void XpbdSolver::sweep(const ClothModel& model, Positions& x, double hs) {
   const double alpha_tilde = 1.0 / (hs * hs);  // compliance 1 scaled by the sub-step
   const Eigen::VectorXd& w = model.inverse_mass;
+  // Springs: C = l - L with compliance 1/k and XPBD's damping (Macklin et al. 2016, eq. 26) for
+  // the spring damping gamma, gamma~ = gamma / (k hs): implicit, so stable for any gamma.
   const SpringSet& springs = model.springs;
   for (int s = 0; s < springs.size(); ++s) {
-    const int v[2] = {springs.vertices(0, s), springs.vertices(1, s)};
-    const Vec3 d = x.col(v[1]) - x.col(v[0]);
+    const double k = springs.stiffness[s];
+    if (!(k > 0.0)) continue;  // damping-only springs act explicitly in predict()
+    const int i = springs.vertices(0, s), j = springs.vertices(1, s);
+    const Vec3 d = x.col(j) - x.col(i);
     const double length = d.norm();
     if (!(length > 0.0)) continue;
-    const double stretch = length - springs.rest_length[s];
-    const double k = springs.stiffness[s];
-    Vector6d gradient;  // of k/2 (l - L)^2
-    gradient.segment<3>(3) = (k * stretch / length) * d;
-    gradient.segment<3>(0) = -gradient.segment<3>(3);
-    project_element<2>(v, 0.5 * k * stretch * stretch, gradient, w, alpha_tilde, spring_lambda_[s], x);
+    const Vec3 n = d / length;  // grad_j C = n, grad_i C = -n
+    const double c = length - springs.rest_length[s];
+    const double alpha = alpha_tilde / k;
+    const double gamma = springs.damping[s] / (k * hs);
+    const double rate = n.dot((x.col(j) - x_prev_.col(j)) - (x.col(i) - x_prev_.col(i)));  // grad C . (x - x_prev)
+    const double dlambda = (-c - alpha * spring_lambda_[s] - gamma * rate) / ((1.0 + gamma) * (w[i] + w[j]) + alpha);
+    if (!std::isfinite(dlambda)) continue;  // both ends pinned
+    spring_lambda_[s] += dlambda;
+    x.col(i) -= (w[i] * dlambda) * n;
+    x.col(j) += (w[j] * dlambda) * n;
   }
   // Membrane edges: the signed distance constraint C = l - L with compliance 1/k (softer in
   // compression), the usual XPBD cloth constraint.

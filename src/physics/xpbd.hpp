@@ -1,25 +1,26 @@
 #pragma once
 // XPBD (Macklin, Müller and Chentanez 2016) with small steps (Macklin et al. 2019): the fast end
-// of the speed/accuracy trade, on the same model as implicit Euler.
+// of the speed/accuracy trade (docs/integrators.md has the measured trade).
 //
-// Every elastic element e (a spring, a membrane triangle, a hinge) with energy E_e >= 0 becomes
-// the constraint C_e = sqrt(2 E_e) with compliance 1, so that E_e = C_e^2 / 2. XPBD's fixed point
-// for a step of h,  M (x - x_hat) / h^2 + sum_e grad C_e C_e = 0,  is then exactly the stationary
-// point of implicit Euler's incremental potential 1/(2h^2) |x - x_hat|^2_M + sum_e E_e: the same
-// solution, reached by Gauss-Seidel sweeps over the elements instead of Newton. What XPBD trades
-// away is how far those sweeps get; sub-steps (several short steps with one sweep each) are the
-// cheap way to get further (Macklin et al. 2019).
+// Constraints, each with the compliance that makes its energy the scene's:
+//   - springs: C = l - L, compliance 1/k, with XPBD's implicit damping for the spring damping;
+//   - membrane: one distance constraint per mesh edge with van Gelder's (1998) stiffness
+//     k = E t (sum of the rest areas of the edge's triangles) / L^2, 1/compression_factor softer
+//     when shorter than rest. This is edge springs, not the StVK triangle of implicit Euler;
+//   - hinges: C = sqrt(2 E) of the hinge energy with compliance 1, so E = C^2 / 2 exactly.
 //
 // One step of h is `substeps` sub-steps of hs = h / substeps, each:
 //   1. v += hs (g + M^-1 f_other(x, v)), with f_other the terms that are not constraints, taken
-//      explicitly: air drag, spring damping, enclosed-volume pressure; then v /= 1 + c hs for the
-//      mass damping c (implicit in v, like implicit Euler's dissipation potential);
+//      explicitly: air drag, enclosed-volume pressure, damping of springs without stiffness; then
+//      v /= 1 + c hs for the mass damping c;
 //   2. x_prev = x; x += hs v (pinned vertices, inverse mass 0, keep their scripted velocity);
-//   3. `iterations` Gauss-Seidel sweeps over springs, membrane triangles and hinges, each element
+//   3. `iterations` Gauss-Seidel sweeps over springs, membrane edges and hinges, each constraint
 //      moving its vertices by  dx_i = w_i grad_i C dlambda,
-//      dlambda = (-C - lambda / hs^2) / (sum_i w_i |grad_i C|^2 + 1 / hs^2),  lambda += dlambda;
+//      dlambda = (-C - alpha~ lambda) / (sum_i w_i |grad_i C|^2 + alpha~),  alpha~ = alpha / hs^2;
 //   4. v = (x - x_prev) / hs.
-// Linear momentum is conserved by every element update (the energies are translation invariant).
+// Every update conserves linear momentum (the constraints are translation invariant). XPBD's
+// fixed point is not exactly implicit Euler's step (it drops the change of grad C over the
+// sweeps), and with few sweeps a stiff cloth comes out stretchier than its material.
 #include <vector>
 
 #include "physics/cloth.hpp"

@@ -293,8 +293,11 @@ TEST(IntegratorStability, FreeFallChangesMomentumByExactlyMassTimesGravityTimesT
                 relative, largest_internal, cloth.model.mass.maxCoeff() * gravity.norm());
     // Exact to round-off, except that an inexact CG solve leaves a residual whose sum is not zero,
     // so the momentum error of CG is of the order of its tolerance (1e-6) times the tiny residual.
+    // XPBD carries velocity as (x - x_prev) / hs, so the round-off of every position update
+    // (1e-16 m) is divided by the sub-step: its bound is that round-off over 1,200 sub-steps.
     const bool inexact_solve = std::string(name).find("(cg)") != std::string::npos;
-    EXPECT_LT(relative, inexact_solve ? 1e-9 : 1e-12) << name;
+    const bool velocity_from_positions = std::string(name) == "xpbd";
+    EXPECT_LT(relative, inexact_solve ? 1e-9 : velocity_from_positions ? 1e-10 : 1e-12) << name;
     EXPECT_GT(largest_internal, 10.0 * cloth.model.mass.maxCoeff() * gravity.norm()) << name;
   }
 }
