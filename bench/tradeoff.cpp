@@ -34,7 +34,7 @@ namespace fs = std::filesystem;
 
 struct Run {
   Positions x;            // every cloth's positions at the end, side by side
-  double energy_start = 0.0, energy_end = 0.0, peak_kinetic = 0.0;
+  double energy_end = 0.0, peak_kinetic = 0.0;
   double wall_seconds = 0.0;
   double largest_strain = 0.0;
   bool stable = true;
@@ -65,7 +65,6 @@ Run simulate(SceneDesc scene, IntegratorKind integrator, double h, double durati
   const int steps = static_cast<int>(std::lround(duration / h));
   const int sample_every = std::max(1, static_cast<int>(std::lround(sample / h)));
   Run run;
-  run.energy_start = world.energies().total();
   double seconds = 0.0;
   for (int k = 1; k <= steps && run.stable; ++k) {
     const auto start = std::chrono::steady_clock::now();
