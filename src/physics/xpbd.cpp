@@ -26,6 +26,25 @@ void project_element(const int (&v)[N], double energy, const Eigen::Matrix<doubl
   for (int k = 0; k < N; ++k) x.col(v[k]) += (inverse_mass[v[k]] * scale) * gradient.template segment<3>(3 * k);
 }
 
+// One update of the distance constraint C = |xj - xi| - rest_length with scaled compliance
+// alpha~ (chosen by `compression_alpha` when C < 0) and XPBD's damping gamma~ (Macklin et al.
+// 2016, eq. 26; 0 for none) on the motion since x_prev.
+void project_distance(int i, int j, double rest_length, double alpha, double compression_alpha, double gamma,
+                      const Eigen::VectorXd& w, const Positions& x_prev, double& lambda, Positions& x) {
+  const Vec3 d = x.col(j) - x.col(i);
+  const double length = d.norm();
+  if (!(length > 0.0)) return;
+  const Vec3 n = d / length;  // grad_j C = n, grad_i C = -n
+  const double c = length - rest_length;
+  const double a = c < 0.0 ? compression_alpha : alpha;
+  const double rate = gamma == 0.0 ? 0.0 : n.dot((x.col(j) - x_prev.col(j)) - (x.col(i) - x_prev.col(i)));
+  const double dlambda = (-c - a * lambda - gamma * rate) / ((1.0 + gamma) * (w[i] + w[j]) + a);
+  if (!std::isfinite(dlambda)) return;  // both ends pinned
+  lambda += dlambda;
+  x.col(i) -= (w[i] * dlambda) * n;
+  x.col(j) += (w[j] * dlambda) * n;
+}
+
 // Damping gamma ((vj - vi) . d) d / |d|^2 on i (and its opposite on j) of the springs without
 // stiffness, added to `force` (springs with stiffness are damped implicitly in sweep()).
 void add_spring_damping_forces(const SpringSet& springs, const Positions& x, const Positions& v, Positions& force) {
@@ -48,19 +67,18 @@ bool any_spring_damping(const SpringSet& springs) {
 }  // namespace
 
 // Membrane edges with van Gelder's (1998) stiffness k = E t sum_T A_T / L^2 over the one or two
-// rest triangles at the edge; 1/k is the compliance, 1/(c k) in compression (c the compression factor).
+// rest triangles at the edge. Only the geometric factor sum_T A_T / L^2 is kept: E, t and the
+// compression factor are read from the material at every sweep, so live edits take effect.
 void XpbdSolver::prepare(const ClothModel& model) {
   prepared_vertices_ = static_cast<int>(model.rest_positions.cols());
   prepared_triangles_ = static_cast<int>(model.triangles.cols());
   edges_.resize(2, 0);
   if (!model.membrane.enabled()) return;
   const MeshTopology topology = build_topology(model.triangles, prepared_vertices_);
-  const MembraneMaterial& material = model.membrane.material;
   edges_ = topology.edges;
   const Eigen::Index n = edges_.cols();
   edge_rest_length_.resize(n);
-  edge_compliance_.resize(n);
-  edge_compression_compliance_.resize(n);
+  edge_area_over_length2_.resize(n);
   for (Eigen::Index e = 0; e < n; ++e) {
     const double length = (model.rest_positions.col(edges_(1, e)) - model.rest_positions.col(edges_(0, e))).norm();
     double area = 0.0;
@@ -68,10 +86,8 @@ void XpbdSolver::prepare(const ClothModel& model) {
       const int t = topology.edge_triangles(side, e);
       if (t >= 0) area += model.membrane.rest[t].area;
     }
-    const double stiffness = material.young_modulus * material.thickness * area / (length * length);
     edge_rest_length_[e] = length;
-    edge_compliance_[e] = 1.0 / stiffness;
-    edge_compression_compliance_[e] = 1.0 / (material.compression_factor * stiffness);
+    edge_area_over_length2_[e] = area / (length * length);
   }
 }
 
@@ -128,38 +144,17 @@ void XpbdSolver::sweep(const ClothModel& model, Positions& x, double hs) {
   for (int s = 0; s < springs.size(); ++s) {
     const double k = springs.stiffness[s];
     if (!(k > 0.0)) continue;  // damping-only springs act explicitly in predict()
-    const int i = springs.vertices(0, s), j = springs.vertices(1, s);
-    const Vec3 d = x.col(j) - x.col(i);
-    const double length = d.norm();
-    if (!(length > 0.0)) continue;
-    const Vec3 n = d / length;  // grad_j C = n, grad_i C = -n
-    const double c = length - springs.rest_length[s];
     const double alpha = alpha_tilde / k;
-    const double gamma = springs.damping[s] / (k * hs);
-    const double rate = n.dot((x.col(j) - x_prev_.col(j)) - (x.col(i) - x_prev_.col(i)));  // grad C . (x - x_prev)
-    const double dlambda = (-c - alpha * spring_lambda_[s] - gamma * rate) / ((1.0 + gamma) * (w[i] + w[j]) + alpha);
-    if (!std::isfinite(dlambda)) continue;  // both ends pinned
-    spring_lambda_[s] += dlambda;
-    x.col(i) -= (w[i] * dlambda) * n;
-    x.col(j) += (w[j] * dlambda) * n;
+    project_distance(springs.vertices(0, s), springs.vertices(1, s), springs.rest_length[s], alpha, alpha,
+                     springs.damping[s] / (k * hs), w, x_prev_, spring_lambda_[s], x);
   }
-  // Membrane edges: the signed distance constraint C = l - L with compliance 1/k (softer in
-  // compression), the usual XPBD cloth constraint.
+  // Membrane edges: the same constraint with compliance 1/k, 1/compression_factor softer in compression.
+  const MembraneMaterial& material = model.membrane.material;
+  const double alpha_per_factor = alpha_tilde / (material.young_modulus * material.thickness);
   for (Eigen::Index e = 0; e < edges_.cols(); ++e) {
-    const int i = edges_(0, e), j = edges_(1, e);
-    const Vec3 d = x.col(j) - x.col(i);
-    const double length = d.norm();
-    if (!(length > 0.0)) continue;
-    const double c = length - edge_rest_length_[e];
-    const double alpha_edge = alpha_tilde * (c < 0.0 ? edge_compression_compliance_[e] : edge_compliance_[e]);
-    const double wi = w[i], wj = w[j];
-    const double denominator = wi + wj + alpha_edge;
-    if (!(denominator > 0.0)) continue;
-    const double dlambda = (-c - alpha_edge * edge_lambda_[e]) / denominator;
-    edge_lambda_[e] += dlambda;
-    const Vec3 n = d / length;  // grad_j C = n, grad_i C = -n
-    x.col(i) -= (wi * dlambda) * n;
-    x.col(j) += (wj * dlambda) * n;
+    const double alpha = alpha_per_factor / edge_area_over_length2_[e];
+    project_distance(edges_(0, e), edges_(1, e), edge_rest_length_[e], alpha, alpha / material.compression_factor,
+                     0.0, w, x_prev_, edge_lambda_[e], x);
   }
   if (model.bending.enabled()) {
     Vector12d gradient;

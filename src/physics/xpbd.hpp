@@ -45,7 +45,7 @@ class XpbdSolver {
 
   int prepared_vertices_ = -1, prepared_triangles_ = -1;
   Eigen::Matrix2Xi edges_;  // membrane edges (2 x n_edges)
-  Eigen::VectorXd edge_rest_length_, edge_compliance_, edge_compression_compliance_;
+  Eigen::VectorXd edge_rest_length_, edge_area_over_length2_;  // L and sum_T A_T / L^2 at rest
   std::vector<double> spring_lambda_, edge_lambda_, hinge_lambda_;
   Positions x_prev_;
   Positions other_force_;  // f_other of step 1
