@@ -2,25 +2,26 @@
 // Implicit (backward) Euler as minimisation of the incremental potential (Gast et al. 2015):
 //   x_{n+1} = argmin  1/(2h^2) |x - x_hat|^2_M + E(x) + D(x),   x_hat = x_n + h v_n,
 // with E the potential (elastic terms, gravity) and D the damping terms' dissipation potential;
-// then v_{n+1} = (x_{n+1} - x_n)/h. Newton's method with the element-wise PSD-projected
-// Hessian, a backtracking (Armijo) line search on the incremental potential, and a sparse solve.
+// then v_{n+1} = (x_{n+1} - x_n)/h. Newton's method with a backtracking (Armijo) line search on
+// the incremental potential and a sparse solve: conjugate gradient on the element-wise
+// PSD-projected Hessian, or supernodal Cholesky on the exact Hessian wherever that is positive
+// definite (the projected one where it is not).
 #include <vector>
-
-#include <Eigen/SparseCholesky>
 
 #include "physics/cloth.hpp"
 #include "physics/cloth_terms.hpp"
 #include "physics/conjugate_gradient.hpp"
 #include "physics/contact_penalty.hpp"
 #include "physics/sparse_hessian.hpp"
+#include "physics/supernodal_cholesky.hpp"
 
 namespace weft {
 
 enum class LinearSolverKind { conjugate_gradient, cholesky };
 
 struct ImplicitEulerSettings {
-  double newton_tolerance = 1e-5;   // m/s: stop when the Newton step's largest |dx| / h, or the bound
-                                    // h max(1/m) |g| on the next step's, is below this
+  double newton_tolerance = 1e-5;  // m/s: stop when the Newton step's largest |dx| / h, or the bound
+                                   // h max(1/m) |g| on the next step's, is below this
   int max_newton_iterations = 30;
   LinearSolverKind linear_solver = LinearSolverKind::conjugate_gradient;
   // Conjugate gradient stops at a relative residual eta_k that tightens as Newton converges
@@ -34,8 +35,10 @@ struct ImplicitEulerSettings {
 // What the last step did.
 struct NewtonReport {
   int newton_iterations = 0;
-  int linear_iterations = 0;        // CG iterations summed over Newton iterations (0 for Cholesky)
+  int linear_iterations = 0;  // CG iterations summed over Newton iterations (0 for Cholesky)
   bool converged = false;
+  int projected_hessians = 0;          // Cholesky only: iterations whose exact Hessian was not positive
+                                       // definite, so the element-wise projected one was solved instead
   std::vector<double> gradient_norms;  // |grad of incremental potential| over free vertices, per iteration
 };
 
@@ -50,14 +53,12 @@ class ImplicitEulerSolver {
   const NewtonReport& last_report() const { return report_; }
 
  private:
-  using ColumnMajor = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
-
   void prepare(const ClothModel& model);
   double incremental_potential(const ClothModel& model, const Vec3& gravity, const Positions& x, double h,
-                               Positions* gradient, bool assemble);
+                               Positions* gradient, bool assemble, bool project);
   bool solve(const ImplicitEulerSettings& settings, double cg_tolerance);
 
-  const ContactPenalty* penalty_ = nullptr;  // during step()
+  const ContactPenalty* penalty_ = nullptr;     // during step()
   ConjugateGradientSolver::Coupling coupling_;  // penalty coupling blocks at x_linearized_
   Positions x_linearized_;                      // where the Hessian was last assembled
   bool prepared_ = false;
@@ -65,11 +66,10 @@ class ImplicitEulerSolver {
   SparseHessian hessian_;
   HessianStencils stencils_;
   Positions x_start_, x_hat_, gradient_, trial_;
-  Eigen::VectorXd free_mask_;       // 1 for free coordinates, 0 for pinned (3n)
+  Eigen::VectorXd free_mask_;  // 1 for free coordinates, 0 for pinned (3n)
   Eigen::VectorXd rhs_, dx_;
   ConjugateGradientSolver cg_;
-  Eigen::SimplicialLDLT<ColumnMajor> ldlt_;
-  bool ldlt_analyzed_ = false;
+  SupernodalCholesky cholesky_;
   NewtonReport report_;
 };
 

@@ -1,9 +1,11 @@
 // Implicit Euler at the stiff extreme: a cloth with springs of stiffness 1e6 N/m, pinned at two
 // corners, falls from flat with one step per frame (h = 1/24 s). It must stay finite and bounded,
 // keep its springs near rest length and settle. (Symplectic Euler would need h < ~1e-5 s.)
-// The issue asks for 100x100 vertices; there compressed stiff springs make the PSD-projected Newton
-// converge only linearly (10-30 iterations a step) and one step costs seconds, so the suite runs
-// 20x20 (about 7 s) and the 100x100 case is left to a benchmark (see the issue notes).
+// At 20x20 Newton runs to its tolerance. At 100x100 a Newton iteration costs about 0.3 s (a
+// supernodal Cholesky of 30,000 unknowns, twice where the exact Hessian is indefinite) and
+// convergence in the buckling fall takes 30 or more, so there Newton is capped at 5 iterations a
+// step, the setting a user would pick for an interactive run: the steps are inexact, and the test
+// shows that implicit Euler still stays bounded and settles.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,10 +20,10 @@
 namespace weft {
 namespace {
 
-World stiff_cloth_world() {
-  const auto document = nlohmann::json::parse(R"({
+World stiff_cloth_world(int resolution, int max_newton_iterations) {
+  auto document = nlohmann::json::parse(R"({
     "solver": {"integrator": "implicit_euler", "time_step": 0.041666666666666664,
-               "newton": {"linear_solver": "cholesky", "tolerance": 1e-4, "max_iterations": 30}},
+               "newton": {"linear_solver": "cholesky", "tolerance": 1e-4}},
     "fps": 24,
     "cloths": [{
       "grid": {"size": [1, 1], "resolution": [20, 20]},
@@ -34,17 +36,18 @@ World stiff_cloth_world() {
       "pins": {"corners": ["top_left", "top_right"]}
     }]
   })");
+  document["solver"]["newton"]["max_iterations"] = max_newton_iterations;
+  document["cloths"][0]["grid"]["resolution"] = {resolution, resolution};
   return build_world(parse_scene(document, "<inline>"));
 }
 
-TEST(StiffCloth, ImplicitEulerOneStepPerFrameStaysBoundedAndSettles) {
-  World world = stiff_cloth_world();
+void expect_bounded_and_settled(int n, int max_newton_iterations, int frames) {
+  World world = stiff_cloth_world(n, max_newton_iterations);
   ASSERT_EQ(frame_schedule(24.0, world.settings.time_step).steps_per_frame, 1);
   const Cloth& cloth = world.cloths()[0];
-  const int n = 20;
   const Vec3 pin = cloth.state.x.col((n - 1) * n);
   std::vector<double> kinetic;
-  for (int frame = 0; frame < 72; ++frame) {
+  for (int frame = 0; frame < frames; ++frame) {
     world.step();
     ASSERT_TRUE(cloth.state.x.allFinite()) << "frame " << frame;
     kinetic.push_back(world.energies().kinetic);
@@ -58,7 +61,8 @@ TEST(StiffCloth, ImplicitEulerOneStepPerFrameStaysBoundedAndSettles) {
   const SpringSet& springs = cloth.model.springs;
   double worst_strain = 0.0;
   for (int s = 0; s < springs.size(); ++s) {
-    const double length = (cloth.state.x.col(springs.vertices(1, s)) - cloth.state.x.col(springs.vertices(0, s))).norm();
+    const double length =
+        (cloth.state.x.col(springs.vertices(1, s)) - cloth.state.x.col(springs.vertices(0, s))).norm();
     worst_strain = std::max(worst_strain, length / springs.rest_length[s] - 1.0);
   }
   EXPECT_LT(worst_strain, 0.01);
@@ -67,6 +71,14 @@ TEST(StiffCloth, ImplicitEulerOneStepPerFrameStaysBoundedAndSettles) {
   EXPECT_GT(peak, 0.01);
   EXPECT_LT(*std::max_element(kinetic.end() - 12, kinetic.end()), 1e-3 * peak);
   EXPECT_LT(cloth.state.x.row(1).minCoeff(), 0.5);  // it hangs below the pins
+}
+
+TEST(StiffCloth, ImplicitEulerOneStepPerFrameStaysBoundedAndSettles) {
+  expect_bounded_and_settled(20, 30, 72);
+}
+
+TEST(StiffCloth, HundredByHundredWithFiveNewtonIterationsAStepStaysBoundedAndSettles) {
+  expect_bounded_and_settled(100, 5, 96);
 }
 
 }  // namespace
