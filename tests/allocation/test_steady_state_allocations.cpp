@@ -35,9 +35,11 @@ void operator delete[](void* memory, std::size_t) noexcept { std::free(memory); 
 namespace weft {
 namespace {
 
-TEST(SteadyState, DrapeStepsAllocateNothing) {
+class SteadyState : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SteadyState, DrapeStepsAllocateNothing) {
   // drape_sphere at 16x16, started 2 cm above the sphere so contact comes within a few steps.
-  const nlohmann::json scene = nlohmann::json::parse(R"({
+  nlohmann::json scene = nlohmann::json::parse(R"({
     "solver": {"integrator": "implicit_euler", "time_step": 0.004166666666666667, "newton": {"tolerance": 1e-3}},
     "cloths": [{"grid": {"size": [2, 2], "resolution": [16, 16], "triangulation": "alternating"},
                 "transform": {"translation": [0, 0.52, 0], "rotation_degrees": [-90, 0, 0]},
@@ -49,6 +51,7 @@ TEST(SteadyState, DrapeStepsAllocateNothing) {
                 "self_collision": true}],
     "colliders": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.5}]
   })");
+  scene["solver"]["newton"]["linear_solver"] = GetParam();
   World world = build_world(parse_scene(scene, "inline"));
   // Buffers (candidates, contact groups, records) grow to the largest contact set they meet; by
   // 1 s the cloth has settled on the sphere.
@@ -60,6 +63,8 @@ TEST(SteadyState, DrapeStepsAllocateNothing) {
   counting = false;
   EXPECT_EQ(allocations.load(), 0) << "heap allocations in 20 steady-state steps";
 }
+
+INSTANTIATE_TEST_SUITE_P(LinearSolvers, SteadyState, ::testing::Values("conjugate_gradient", "cholesky"));
 
 }  // namespace
 }  // namespace weft
