@@ -130,9 +130,10 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     x = trial_;
     const bool small_step = alpha * dx_.lpNorm<Eigen::Infinity>() < settings.newton_tolerance * h;
     value = incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/false, /*project=*/false);
-    // The next Newton step solves H dx = -g with H >= M / h^2 (the elastic and damping parts are
-    // PSD after projection), so |dx| <= h^2 max(1/m) |g|: when that bound is already below the
-    // tolerance the step has converged and the solve that would confirm it is skipped.
+    // A projected Newton step solves H dx = -g with H >= M / h^2 (the elastic and damping parts
+    // are PSD after projection), so |dx| <= h^2 max(1/m) |g|: when that bound is already below
+    // the tolerance the step has converged and the solve that would confirm it is skipped. (An
+    // exact Hessian's step may be longer; the test then reads as a bound on the gradient.)
     const double next_step_bound = h * h * max_inverse_mass * gradient_vector().norm();
     if (small_step || next_step_bound < settings.newton_tolerance * h) {
       report_.gradient_norms.push_back(gradient_vector().norm());
