@@ -56,24 +56,34 @@ void expect_quadratic_convergence(const std::vector<double>& r) {
   EXPECT_LT(last_contraction, 1e-3);
 }
 
-TEST(ImplicitEuler, NewtonConvergesQuadraticallyNearTheSolution) {
-  Cloth cloth = stretched_drum();
+// One implicit Euler step of h = 1/24 s with Cholesky, Newton iterated down to round-off; prints
+// the gradient norms r_k.
+NewtonReport cholesky_step_to_round_off(Cloth& cloth) {
   ImplicitEulerSolver solver;
   ImplicitEulerSettings settings;
   settings.linear_solver = LinearSolverKind::cholesky;
-  settings.newton_tolerance = 1e-14;  // iterate down to round-off
+  settings.newton_tolerance = 1e-14;
   settings.max_newton_iterations = 40;
-  const double h = 1.0 / 24.0;
-  const NewtonReport report = solver.step(cloth, Vec3(0.0, -9.81, 0.0), h, settings);
+  const NewtonReport report = solver.step(cloth, Vec3(0.0, -9.81, 0.0), 1.0 / 24.0, settings);
   const std::vector<double>& r = report.gradient_norms;
   for (size_t k = 0; k < r.size(); ++k) std::printf("r_%zu = %.3e\n", k, r[k]);
+  return report;
+}
+
+double spring_length(const Cloth& cloth, int s) {
+  const SpringSet& springs = cloth.model.springs;
+  return (cloth.state.x.col(springs.vertices(1, s)) - cloth.state.x.col(springs.vertices(0, s))).norm();
+}
+
+TEST(ImplicitEuler, NewtonConvergesQuadraticallyNearTheSolution) {
+  Cloth cloth = stretched_drum();
+  const NewtonReport report = cholesky_step_to_round_off(cloth);
+  const std::vector<double>& r = report.gradient_norms;
 
   // The premise: at the solution every spring is stretched, so the projected Hessian is exact.
   const SpringSet& springs = cloth.model.springs;
   for (int s = 0; s < springs.size(); ++s) {
-    const double length =
-        (cloth.state.x.col(springs.vertices(1, s)) - cloth.state.x.col(springs.vertices(0, s))).norm();
-    ASSERT_GT(length, springs.rest_length[s]) << "spring " << s;
+    ASSERT_GT(spring_length(cloth, s), springs.rest_length[s]) << "spring " << s;
   }
   ASSERT_TRUE(cloth.state.x.allFinite());
   // The step was a real nonlinear solve, and it reached round-off.
@@ -85,24 +95,15 @@ TEST(ImplicitEuler, NewtonConvergesQuadraticallyNearTheSolution) {
 
 TEST(ImplicitEuler, CholeskyNewtonConvergesQuadraticallyWithCompressedSprings) {
   Cloth cloth = stretched_drum(1.1, 0.97);
-  ImplicitEulerSolver solver;
-  ImplicitEulerSettings settings;
-  settings.linear_solver = LinearSolverKind::cholesky;
-  settings.newton_tolerance = 1e-14;
-  settings.max_newton_iterations = 40;
-  const NewtonReport report = solver.step(cloth, Vec3(0.0, -9.81, 0.0), 1.0 / 24.0, settings);
+  const NewtonReport report = cholesky_step_to_round_off(cloth);
   const std::vector<double>& r = report.gradient_norms;
-  for (size_t k = 0; k < r.size(); ++k) std::printf("r_%zu = %.3e\n", k, r[k]);
 
   // The premise: springs are compressed at the solution, so element-wise projection would change
   // the Hessian there; yet the exact Hessian of the incremental potential is definite throughout.
   const SpringSet& springs = cloth.model.springs;
   int compressed = 0;
-  for (int s = 0; s < springs.size(); ++s) {
-    const double length =
-        (cloth.state.x.col(springs.vertices(1, s)) - cloth.state.x.col(springs.vertices(0, s))).norm();
-    compressed += length < 0.99 * springs.rest_length[s];
-  }
+  for (int s = 0; s < springs.size(); ++s)
+    compressed += spring_length(cloth, s) < 0.99 * springs.rest_length[s];
   ASSERT_GT(compressed, 0);
   EXPECT_EQ(report.projected_hessians, 0);
   ASSERT_GE(r.size(), 4u);
