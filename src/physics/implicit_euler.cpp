@@ -115,21 +115,31 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     dx_.array() *= free_mask_.array();
     const Eigen::Map<const Positions> step(dx_.data(), 3, num_vertices_);
 
-    // Backtracking line search on Phi with the Armijo condition.
+    // Backtracking line search on Phi with the Armijo condition. The full step is nearly always
+    // taken, so its trial point is evaluated with the gradient and Hessian the next iteration
+    // needs (one pass over the elements per iteration); shorter trials are evaluated for the
+    // value only, and the accepted one is then assembled.
     const double slope = gradient_vector().dot(dx_);
     double alpha = 1.0;
-    double trial_value = value;
-    while (alpha > 1e-8) {
+    trial_.noalias() = x + step;
+    double trial_value =
+        incremental_potential(model, gravity, trial_, h, &gradient_, /*assemble=*/true, !exact_first);
+    bool assembled_at_trial = true;
+    while (!(trial_value <= value + 1e-4 * alpha * slope)) {  // also backtracks from a NaN value
+      alpha *= 0.5;
+      if (alpha <= 1e-8) break;
       trial_.noalias() = x + alpha * step;
       trial_value =
           incremental_potential(model, gravity, trial_, h, nullptr, /*assemble=*/false, /*project=*/false);
-      if (trial_value <= value + 1e-4 * alpha * slope) break;
-      alpha *= 0.5;
+      assembled_at_trial = false;
     }
     if (alpha <= 1e-8) break;  // no decrease along dx: cannot improve further
     x = trial_;
+    value = trial_value;
+    if (!assembled_at_trial) {
+      incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/true, !exact_first);
+    }
     const bool small_step = alpha * dx_.lpNorm<Eigen::Infinity>() < settings.newton_tolerance * h;
-    value = incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/false, /*project=*/false);
     // A projected Newton step solves H dx = -g with H >= M / h^2 (the elastic and damping parts
     // are PSD after projection), so |dx| <= h^2 max(1/m) |g|: when that bound is already below
     // the tolerance the step has converged and the solve that would confirm it is skipped. (An
@@ -140,7 +150,6 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
       report_.converged = true;
       break;
     }
-    value = incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/true, !exact_first);
   }
   state.v = (x - x_start_) / h;
   penalty_ = nullptr;
