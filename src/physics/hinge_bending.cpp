@@ -12,15 +12,14 @@ namespace {
 // A triangle's height over the edge must exceed this fraction of |e| for theta to be used.
 constexpr double min_relative_height = 1e-8;
 
-
 // Edge, opposite-vertex offsets and unnormalised normals of a hinge.
 struct HingeFrame {
-  Vec3 e;       // x1 - x0
-  Vec3 u1;      // x2 - x0
-  Vec3 u2;      // x3 - x0
-  Vec3 n1;      // e x u1, |n1| = 2 A1
-  Vec3 n2;      // u2 x e, |n2| = 2 A2
-  double l2;    // |e|^2
+  Vec3 e;     // x1 - x0
+  Vec3 u1;    // x2 - x0
+  Vec3 u2;    // x3 - x0
+  Vec3 n1;    // e x u1, |n1| = 2 A1
+  Vec3 n2;    // u2 x e, |n2| = 2 A2
+  double l2;  // |e|^2
   double theta;
   bool degenerate;
 };
@@ -46,7 +45,8 @@ HingeFrame hinge_frame(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec
 // The angle gradient is a m on x0, x1 and p with m = |e| n/|n|^2 (the unit normal over the
 // height) and a = (1 - s, s, -1), s = u.e/|e|^2 the projection of p along the edge. This adds
 // d(a_v m)/dx_w = a_v dm/dx_w + m (da_v/dx_w)^T to the angle Hessian (rows v, columns w).
-void add_wing_hessian(const Vec3& e, const Vec3& u, const Vec3& n, double sign, int p, double l2, Matrix12d& h) {
+void add_wing_hessian(const Vec3& e, const Vec3& u, const Vec3& n, double sign, int p, double l2,
+                      Matrix12d& h) {
   const double n_squared = n.squaredNorm();
   const double l = std::sqrt(l2);
   const double c = l / n_squared;
@@ -90,8 +90,9 @@ double dihedral_angle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3
   return hinge_frame(x0, x1, x2, x3).theta;
 }
 
-double hinge_bending_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, const HingeRest& rest,
-                            double stiffness, Vector12d* gradient, Matrix12d* hessian, bool gauss_newton) {
+double hinge_bending_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3,
+                            const HingeRest& rest, double stiffness, Vector12d* gradient, Matrix12d* hessian,
+                            bool gauss_newton) {
   const HingeFrame h = hinge_frame(x0, x1, x2, x3);
   double delta = h.theta - rest.rest_angle;
   if (delta > pi) {
@@ -132,7 +133,8 @@ double hinge_bending_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, cons
   return energy;
 }
 
-BendingTerm make_bending_term(const MeshTopology& topology, const Positions& rest_positions, double stiffness) {
+BendingTerm make_bending_term(const MeshTopology& topology, const Positions& rest_positions,
+                              double stiffness) {
   BendingTerm term;
   term.stiffness = stiffness;
   term.hinges.resize(4, topology.num_hinges());
@@ -148,27 +150,26 @@ BendingTerm make_bending_term(const MeshTopology& topology, const Positions& res
     term.hinges.col(kept++) = hinge;
   }
   term.hinges.conservativeResize(4, kept);
+  term.coloring = ElementColoring(term.hinges, static_cast<int>(rest_positions.cols()));
   return term;
 }
 
 double evaluate_hinge_bending(const BendingTerm& term, const Positions& x, Positions* gradient,
                               SparseHessian* hessian, int stencil, bool project) {
-  double energy = 0.0;
-  Vector12d element_gradient;
-  Matrix12d element_hessian;
-  for (Eigen::Index h = 0; h < term.hinges.cols(); ++h) {
+  return term.coloring.sum_over_elements(static_cast<int>(term.hinges.cols()), [&](int h) {
+    Vector12d element_gradient;
+    Matrix12d element_hessian;
     const Eigen::Vector4i v = term.hinges.col(h);
-    energy += hinge_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), term.rest[h], term.stiffness,
-                                   gradient ? &element_gradient : nullptr, hessian ? &element_hessian : nullptr,
-                                   /*gauss_newton=*/project);
+    const double energy =
+        hinge_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), term.rest[h], term.stiffness,
+                             gradient ? &element_gradient : nullptr, hessian ? &element_hessian : nullptr,
+                             /*gauss_newton=*/project);
     if (gradient) {
       for (int k = 0; k < 4; ++k) gradient->col(v[k]) += element_gradient.segment<3>(3 * k);
     }
-    if (hessian) {
-      hessian->add_element<4>(stencil, static_cast<int>(h), element_hessian);
-    }
-  }
-  return energy;
+    if (hessian) hessian->add_element<4>(stencil, h, element_hessian);
+    return energy;
+  });
 }
 
 }  // namespace weft

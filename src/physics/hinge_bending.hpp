@@ -14,6 +14,7 @@
 
 #include "core/math.hpp"
 #include "core/topology.hpp"
+#include "physics/element_coloring.hpp"
 #include "physics/sparse_hessian.hpp"
 
 namespace weft {
@@ -37,19 +38,22 @@ double dihedral_angle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3
 // the edge is below 1e-8 |e| (or |e| = 0) the angle is ill-defined: the energy is still returned
 // but the gradient and Hessian are zero. With `gauss_newton` the Hessian is its PSD part
 // 2 k grad(theta) grad(theta)^T only (the dropped part is 2 k d hess(theta), small near the rest angle).
-double hinge_bending_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, const HingeRest& rest,
-                            double stiffness, Vector12d* gradient, Matrix12d* hessian, bool gauss_newton = false);
+double hinge_bending_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3,
+                            const HingeRest& rest, double stiffness, Vector12d* gradient, Matrix12d* hessian,
+                            bool gauss_newton = false);
 
 // The bending term of a cloth: every interior edge of the rest mesh (no hinges: the term is off).
 struct BendingTerm {
-  Eigen::Matrix4Xi hinges;        // MeshTopology::hinges layout (4 x n_hinges)
-  std::vector<HingeRest> rest;    // per hinge
-  double stiffness = 0.0;         // J (N m)
+  Eigen::Matrix4Xi hinges;      // MeshTopology::hinges layout (4 x n_hinges)
+  std::vector<HingeRest> rest;  // per hinge
+  double stiffness = 0.0;       // J (N m)
+  ElementColoring coloring;     // of the hinges, for the parallel evaluation (none: serial)
   bool enabled() const { return hinges.cols() > 0; }
 };
 
 // Hinges and rest angles from the rest mesh; hinges with a degenerate wing are left out.
-BendingTerm make_bending_term(const MeshTopology& topology, const Positions& rest_positions, double stiffness);
+BendingTerm make_bending_term(const MeshTopology& topology, const Positions& rest_positions,
+                              double stiffness);
 
 // Bending energy of all hinges; adds the gradient and the Hessian (stencil `stencil` over
 // term.hinges) to the outputs that are not null. With `project` each hinge's Hessian is made PSD

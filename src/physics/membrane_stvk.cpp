@@ -5,7 +5,6 @@
 #include <stdexcept>
 #include <string>
 
-
 namespace weft {
 
 namespace {
@@ -189,8 +188,7 @@ bool apply_plastic_yield(const Vec3& x0, const Vec3& x1, const Vec3& x2, Membran
 
   // New rest edges U Dm: dm_inverse <- dm_inverse U^-1, area <- area det U.
   const Eigen::Matrix2d projector = max_projector(p);
-  const Eigen::Matrix2d u_inverse =
-      projector / rho_max + (Eigen::Matrix2d::Identity() - projector) / rho_min;
+  const Eigen::Matrix2d u_inverse = projector / rho_max + (Eigen::Matrix2d::Identity() - projector) / rho_min;
   rest.dm_inverse = (rest.dm_inverse * u_inverse).eval();
   rest.area *= rho_max * rho_min;
   return true;
@@ -203,12 +201,15 @@ MembraneTerm make_membrane_term(const Triangles& triangles, const Positions& res
   term.yield_strain = yield_strain;
   term.plastic_flow = plastic_flow;
   term.rest.reserve(triangles.cols());
+  term.coloring = ElementColoring(triangles, static_cast<int>(rest_positions.cols()));
   for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
     try {
-      term.rest.push_back(membrane_rest(rest_positions.col(triangles(0, t)), rest_positions.col(triangles(1, t)),
+      term.rest.push_back(membrane_rest(rest_positions.col(triangles(0, t)),
+                                        rest_positions.col(triangles(1, t)),
                                         rest_positions.col(triangles(2, t))));
     } catch (const std::invalid_argument&) {
-      throw std::invalid_argument("triangle " + std::to_string(t) + " has zero area, so it has no membrane rest shape");
+      throw std::invalid_argument("triangle " + std::to_string(t) +
+                                  " has zero area, so it has no membrane rest shape");
     }
   }
   return term;
@@ -216,22 +217,21 @@ MembraneTerm make_membrane_term(const Triangles& triangles, const Positions& res
 
 double evaluate_membrane(const MembraneTerm& term, const Triangles& triangles, const Positions& x,
                          Positions* gradient, SparseHessian* hessian, int stencil, bool project) {
-  double energy = 0.0;
-  Vector9d element_gradient;
-  Matrix9d element_hessian;
-  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+  return term.coloring.sum_over_elements(static_cast<int>(triangles.cols()), [&](int t) {
+    Vector9d element_gradient;
+    Matrix9d element_hessian;
     const int i0 = triangles(0, t), i1 = triangles(1, t), i2 = triangles(2, t);
-    energy += membrane_energy(x.col(i0), x.col(i1), x.col(i2), term.rest[t], term.material,
-                              gradient ? &element_gradient : nullptr, hessian ? &element_hessian : nullptr,
-                              project);
+    const double energy = membrane_energy(x.col(i0), x.col(i1), x.col(i2), term.rest[t], term.material,
+                                          gradient ? &element_gradient : nullptr,
+                                          hessian ? &element_hessian : nullptr, project);
     if (gradient) {
       gradient->col(i0) += element_gradient.segment<3>(0);
       gradient->col(i1) += element_gradient.segment<3>(3);
       gradient->col(i2) += element_gradient.segment<3>(6);
     }
-    if (hessian) hessian->add_element<3>(stencil, static_cast<int>(t), element_hessian);
-  }
-  return energy;
+    if (hessian) hessian->add_element<3>(stencil, t, element_hessian);
+    return energy;
+  });
 }
 
 int apply_membrane_plasticity(MembraneTerm& term, const Triangles& triangles, const Positions& x) {

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/math.hpp"
+#include "physics/element_coloring.hpp"
 #include "physics/sparse_hessian.hpp"
 
 namespace weft {
@@ -63,6 +64,7 @@ struct MembraneTerm {
   std::vector<MembraneRest> rest;  // per triangle (n_triangles)
   double yield_strain = 0.0;       // principal Green strain beyond which the rest shape flows
   double plastic_flow = 0.0;       // fraction of the excess strain absorbed per step (0: elastic)
+  ElementColoring coloring;        // of the triangles, for the parallel evaluation (none: serial)
   bool enabled() const { return !rest.empty(); }
   bool plastic() const { return plastic_flow > 0.0; }
 };
