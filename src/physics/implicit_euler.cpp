@@ -91,7 +91,11 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   // a 1e6 N/m cloth at h = 1/24). The factorisation tells when it is not; then the projected
   // Hessian is assembled and solved instead. CG cannot tell cheaply, so it always projects.
   const bool exact_first = settings.linear_solver == LinearSolverKind::cholesky;
-  double value = incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/true, !exact_first);
+  // Phi at a point with the gradient and Hessian the next Newton iteration solves with.
+  const auto evaluate_for_newton = [&](const Positions& point) {
+    return incremental_potential(model, gravity, point, h, &gradient_, /*assemble=*/true, !exact_first);
+  };
+  double value = evaluate_for_newton(x);
   const double max_inverse_mass = model.inverse_mass.maxCoeff();
   const auto gradient_vector = [this] {
     return Eigen::Map<const Eigen::VectorXd>(gradient_.data(), gradient_.size());
@@ -122,8 +126,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     const double slope = gradient_vector().dot(dx_);
     double alpha = 1.0;
     trial_.noalias() = x + step;
-    double trial_value =
-        incremental_potential(model, gravity, trial_, h, &gradient_, /*assemble=*/true, !exact_first);
+    double trial_value = evaluate_for_newton(trial_);
     bool assembled_at_trial = true;
     while (!(trial_value <= value + 1e-4 * alpha * slope)) {  // also backtracks from a NaN value
       alpha *= 0.5;
@@ -136,9 +139,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     if (alpha <= 1e-8) break;  // no decrease along dx: cannot improve further
     x = trial_;
     value = trial_value;
-    if (!assembled_at_trial) {
-      incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/true, !exact_first);
-    }
+    if (!assembled_at_trial) evaluate_for_newton(x);
     const bool small_step = alpha * dx_.lpNorm<Eigen::Infinity>() < settings.newton_tolerance * h;
     // A projected Newton step solves H dx = -g with H >= M / h^2 (the elastic and damping parts
     // are PSD after projection), so |dx| <= h^2 max(1/m) |g|: when that bound is already below
