@@ -50,9 +50,8 @@ ElementColoring::ElementColoring(const Eigen::Matrix<int, K, Eigen::Dynamic>& el
   // vertex's colours kept as a 64-bit mask. A patch that finds all 64 taken gets a colour of its
   // own past the mask (it then runs alone, which is still correct).
   std::vector<unsigned long long> used(num_vertices, 0ull);
-  std::vector<int>& color = patch_color_;
-  color.resize(num_patches);
-  int num_colors = 0;
+  patch_color_.resize(num_patches);
+  int colors = 0;
   int overflow_color = 64;
   for (int p = 0; p < num_patches; ++p) {
     const int end = std::min(num_elements_, (p + 1) * patch_size);
@@ -69,15 +68,15 @@ ElementColoring::ElementColoring(const Eigen::Matrix<int, K, Eigen::Dynamic>& el
         for (int k = 0; k < K; ++k) used[elements(k, e)] |= 1ull << c;
       }
     }
-    color[p] = c;
-    num_colors = std::max(num_colors, c + 1);
+    patch_color_[p] = c;
+    colors = std::max(colors, c + 1);
   }
-  color_starts_.assign(num_colors + 1, 0);
-  for (int p = 0; p < num_patches; ++p) ++color_starts_[color[p] + 1];
-  for (int c = 0; c < num_colors; ++c) color_starts_[c + 1] += color_starts_[c];
+  color_starts_.assign(colors + 1, 0);
+  for (int p = 0; p < num_patches; ++p) ++color_starts_[patch_color_[p] + 1];
+  for (int c = 0; c < colors; ++c) color_starts_[c + 1] += color_starts_[c];
   patches_.resize(num_patches);
   std::vector<int> next(color_starts_.begin(), color_starts_.end() - 1);
-  for (int p = 0; p < num_patches; ++p) patches_[next[color[p]]++] = p;
+  for (int p = 0; p < num_patches; ++p) patches_[next[patch_color_[p]]++] = p;
   patch_energy_.assign(num_patches, 0.0);
 }
 
