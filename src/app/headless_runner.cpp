@@ -35,7 +35,7 @@ constexpr const char* stats_header =
     "linear_iterations,accepted_steps,rejected_steps,yielded_triangles,move_colliders_ms,integrate_ms,"
     "collisions_ms,rest_update_ms,record_ms,wall_ms,steps,broad_phase_ms,narrow_phase_ms,response_ms,step_ms,"
     "vertex_face_candidates,edge_edge_candidates,proximity_contacts,ccd_impulses,impact_zone_vertices,"
-    "collisions_clean";
+    "collisions_clean,strain_limited_edges";
 
 volatile std::sig_atomic_t stop_requested = 0;
 extern "C" void request_stop(int) { stop_requested = 1; }
@@ -64,9 +64,9 @@ std::string stats_line(int frame, double time, const Energies& e, double dissipa
       << s.accepted_steps << ',' << s.rejected_steps << ',' << s.yielded_triangles << ','
       << s.move_colliders_ms << ',' << s.integrate_ms << ',' << s.collisions_ms << ',' << s.rest_update_ms
       << ',' << record_ms << ',' << wall_ms << ',' << s.steps << ',' << s.broad_phase_ms << ','
-      << s.narrow_phase_ms << ',' << s.response_ms << ',' << s.total_ms << ',' << s.vertex_face_candidates << ','
-      << s.edge_edge_candidates << ',' << s.proximity_contacts << ',' << s.ccd_impulses << ','
-      << s.impact_zone_vertices << ',' << (s.collisions_clean ? 1 : 0);
+      << s.narrow_phase_ms << ',' << s.response_ms << ',' << s.total_ms << ',' << s.vertex_face_candidates
+      << ',' << s.edge_edge_candidates << ',' << s.proximity_contacts << ',' << s.ccd_impulses << ','
+      << s.impact_zone_vertices << ',' << (s.collisions_clean ? 1 : 0) << ',' << s.strain_limited_edges;
   return out.str();
 }
 

@@ -501,6 +501,8 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
     collision.integer("max_impact_zone_passes", settings.max_impact_zone_passes, 1, 10000);
     collision.integer("max_rounds", settings.max_rounds, 1, 100);
     collision.number("penalty_stiffness", settings.penalty_stiffness, non_negative);
+    collision.number("strain_limit", settings.strain_limit, non_negative);
+    collision.integer("strain_limit_sweeps", settings.strain_limit_sweeps, 1, 1000);
     collision.number("bvh_rebuild_ratio", settings.bvh.rebuild_ratio, Range{1.0, HUGE_VAL, true, " > 1"});
     collision.boolean("self_culling", settings.self_culling.enabled);
     collision.finish();
@@ -659,6 +661,8 @@ json scene_to_json(const SceneDesc& scene) {
                            {"max_impact_zone_passes", scene.collision.max_impact_zone_passes},
                            {"max_rounds", scene.collision.max_rounds},
                            {"penalty_stiffness", scene.collision.penalty_stiffness},
+                           {"strain_limit", scene.collision.strain_limit},
+                           {"strain_limit_sweeps", scene.collision.strain_limit_sweeps},
                            {"bvh_rebuild_ratio", scene.collision.bvh.rebuild_ratio},
                            {"self_culling", scene.collision.self_culling.enabled}};
   document["colliders"] = json::array();

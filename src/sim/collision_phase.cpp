@@ -64,11 +64,19 @@ void CollisionPhase::set_meshes(const std::vector<Cloth>& cloths, const std::vec
   triangles_.resize(3, offsets.triangle);
   edges_.resize(2, offsets.edge);
   vertex_mesh_.assign(offsets.vertex, 0);
+  edge_rest_length_.assign(offsets.edge, 0.0);
   for (size_t m = 0; m < meshes_.size(); ++m) {
     const MeshSlot& slot = meshes_[m];
     triangles_.middleCols(slot.offsets.triangle, slot.global_triangles.cols()) = slot.global_triangles;
     edges_.middleCols(slot.offsets.edge, slot.topology.num_edges()) =
         slot.topology.edges.array() + slot.offsets.vertex;
+    if (m < cloths.size()) {
+      const Positions& rest = cloths[m].model.rest_positions;
+      for (int e = 0; e < slot.topology.num_edges(); ++e) {
+        edge_rest_length_[slot.offsets.edge + e] =
+            (rest.col(slot.topology.edges(1, e)) - rest.col(slot.topology.edges(0, e))).norm();
+      }
+    }
     std::fill_n(vertex_mesh_.begin() + slot.offsets.vertex, slot.num_vertices, static_cast<int>(m));
     if (m < cloths.size()) {
       inverse_mass_.segment(slot.offsets.vertex, slot.num_vertices) = cloths[m].model.inverse_mass;
@@ -301,6 +309,19 @@ void CollisionPhase::apply_proximity() {
                                  response_settings(static_cast<int>(group)), &records_);
   }
   label_records(first_record);
+  stats_.response_ms += milliseconds_since(start);
+}
+
+// Phase: edges the impulses (or the solve) left stretched past the limit are shortened. The
+// motion it changed has not been tested for collisions, so the step is not clean until it is.
+void CollisionPhase::limit_strain() {
+  if (!(settings.strain_limit > 0.0)) return;
+  const auto start = Clock::now();
+  CollisionStep step = make_step();
+  const StrainLimitResult result =
+      limit_edge_strain(step, edge_rest_length_, settings.strain_limit, settings.strain_limit_sweeps);
+  stats_.strain_limited_edges += result.corrected_edges;
+  if (result.sweeps > 0) stats_.clean = false;
   stats_.response_ms += milliseconds_since(start);
 }
 

@@ -9,6 +9,8 @@
 //                           vertex-face and edge-edge primitive pairs
 //   apply_proximity         narrow phase (pairs closer than the thickness at the start) and the
 //                           repulsion + Coulomb friction impulses, per material pair
+//   limit_strain            edges stretched past collision.strain_limit shortened (when on);
+//                           again after each round's impulses, so the zones see the limited motion
 //   apply_ccd_impulses      continuous detection over the step and inelastic impulses, iterated
 //   apply_impact_zones      rigid impact zones, the fail-safe
 //   verify_motion           the broad phase again on the corrected motion; collisions it finds
@@ -27,9 +29,10 @@
 #include "collision/contact_record.hpp"
 #include "collision/impact_zones.hpp"
 #include "collision/self_culling.hpp"
+#include "collision/strain_limiting.hpp"
 #include "core/topology.hpp"
-#include "physics/contact_penalty.hpp"
 #include "physics/cloth.hpp"
+#include "physics/contact_penalty.hpp"
 
 namespace weft {
 
@@ -53,6 +56,11 @@ struct CollisionSettings {
   // N/m; > 0 adds the last step's proximity contacts to implicit Euler's incremental potential
   // as a one-sided quadratic penalty (physics/contact_penalty.hpp); 0: off
   double penalty_stiffness = 0.0;
+  // > 0: after the proximity impulses, cloth edges longer than (1 + strain_limit) times their rest
+  // length are shortened to it (collision/strain_limiting.hpp), in at most strain_limit_sweeps
+  // Gauss-Seidel sweeps; 0: off
+  double strain_limit = 0.0;
+  int strain_limit_sweeps = 32;
   BvhSettings bvh;
   // Skip self tests in flat, unfolded regions. Off by default: with it on, `twist` showed 5
   // intersecting pairs at frame 33 that the run without it does not have (docs/collision.md).
@@ -69,6 +77,7 @@ struct CollisionPhaseStats {
   int proximity_contacts = 0;
   int ccd_impulses = 0;
   int impact_zone_vertices = 0;
+  int strain_limited_edges = 0;  // edge corrections by strain limiting, summed over its sweeps
   int bvh_rebuilds = 0;
   int rounds = 0;            // CCD + zone rounds run
   bool clean = true;         // the final motion had no collision among the last candidates
@@ -107,6 +116,7 @@ class CollisionPhase {
   bool motion_is_valid() const { return motion_valid_; }
   void find_candidates();
   void apply_proximity();
+  void limit_strain();
   void apply_ccd_impulses();
   void apply_impact_zones();
   // Returns true when the corrected motion still collides (another round is due).
@@ -174,10 +184,11 @@ class CollisionPhase {
   Positions velocity_;              // (3 x n_vertices)
   Positions vertex_lower_;          // (3 x n_vertices) corners of each vertex's box swept over the step
   Positions vertex_upper_;
-  Eigen::VectorXd inverse_mass_;    // (n_vertices)
-  Triangles triangles_;             // (3 x n_triangles)
-  Eigen::Matrix2Xi edges_;          // (2 x n_edges)
-  std::vector<int> vertex_mesh_;    // mesh of each combined vertex (n_vertices)
+  Eigen::VectorXd inverse_mass_;          // (n_vertices)
+  Triangles triangles_;                   // (3 x n_triangles)
+  Eigen::Matrix2Xi edges_;                // (2 x n_edges)
+  std::vector<double> edge_rest_length_;  // (n_edges) cloth edges at rest; 0 for collider edges
+  std::vector<int> vertex_mesh_;          // mesh of each combined vertex (n_vertices)
 
   // Scratch kept between steps.
   BvhQueryBuffers buffers_;

@@ -182,8 +182,10 @@ void World::resolve_collisions(double h, StepStats& stats) {
   }
   phase.find_candidates();
   phase.apply_proximity();
+  phase.limit_strain();
   for (int round = 0; round < std::max(1, settings.collision.max_rounds); ++round) {
     phase.apply_ccd_impulses();
+    phase.limit_strain();
     phase.apply_impact_zones();
     if (!phase.verify_motion()) break;
   }
@@ -198,6 +200,7 @@ void World::resolve_collisions(double h, StepStats& stats) {
   stats.proximity_contacts = totals.proximity_contacts;
   stats.ccd_impulses = totals.ccd_impulses;
   stats.impact_zone_vertices = totals.impact_zone_vertices;
+  stats.strain_limited_edges = totals.strain_limited_edges;
   stats.contacts = totals.proximity_contacts + totals.ccd_impulses;
   stats.collisions_clean = stats.collisions_clean && totals.clean;
 }
@@ -232,6 +235,7 @@ StepStats& StepStats::operator+=(const StepStats& step) {
   proximity_contacts += step.proximity_contacts;
   ccd_impulses += step.ccd_impulses;
   impact_zone_vertices += step.impact_zone_vertices;
+  strain_limited_edges += step.strain_limited_edges;
   collisions_clean = collisions_clean && step.collisions_clean;
   yielded_triangles += step.yielded_triangles;
   newton_iterations += step.newton_iterations;

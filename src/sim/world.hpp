@@ -51,16 +51,17 @@ struct StepStats {
   int contacts = 0;                // contacts acted on (proximity + CCD impulses), summed over sub-steps
   int vertex_face_candidates = 0;  // primitive pairs from the broad phase
   int edge_edge_candidates = 0;
-  int proximity_contacts = 0;      // pairs repelled within the thickness
-  int ccd_impulses = 0;            // continuous collisions acted on
-  int impact_zone_vertices = 0;    // vertices moved rigidly by impact zones
-  bool collisions_clean = true;    // every sub-step ended without a detected collision
-  int newton_iterations = 0;       // implicit Euler, summed over cloths and sub-steps
-  int linear_iterations = 0;       // conjugate-gradient iterations, summed likewise
-  int accepted_steps = 0;          // adaptive stepping: steps taken
-  int rejected_steps = 0;          // adaptive stepping: steps retried smaller
-  double residual = 0.0;           // implicit Euler: largest final gradient norm over cloths
-  int yielded_triangles = 0;       // plasticity: triangles whose rest shape flowed
+  int proximity_contacts = 0;    // pairs repelled within the thickness
+  int ccd_impulses = 0;          // continuous collisions acted on
+  int impact_zone_vertices = 0;  // vertices moved rigidly by impact zones
+  int strain_limited_edges = 0;  // edge corrections by strain limiting (collision.strain_limit)
+  bool collisions_clean = true;  // every sub-step ended without a detected collision
+  int newton_iterations = 0;     // implicit Euler, summed over cloths and sub-steps
+  int linear_iterations = 0;     // conjugate-gradient iterations, summed likewise
+  int accepted_steps = 0;        // adaptive stepping: steps taken
+  int rejected_steps = 0;        // adaptive stepping: steps retried smaller
+  double residual = 0.0;         // implicit Euler: largest final gradient norm over cloths
+  int yielded_triangles = 0;     // plasticity: triangles whose rest shape flowed
 
   // Sums the counts and times of `step` into this (the residual keeps the largest).
   StepStats& operator+=(const StepStats& step);

@@ -195,7 +195,8 @@ TEST(SceneFile, ShippedScenesLoadAndBuild) {
 }
 
 const char* collision_scene = R"({
-  "collision": {"repulsion_stiffness": 500, "max_ccd_passes": 4, "max_rounds": 2},
+  "collision": {"repulsion_stiffness": 500, "max_ccd_passes": 4, "max_rounds": 2, "strain_limit": 0.5,
+                "strain_limit_sweeps": 8},
   "cloths": [{"grid": {"size": [1, 1], "resolution": [4, 4]}, "thickness": 0.004,
               "friction": {"static": 0.6, "kinetic": 0.5}, "self_collision": false,
               "initial_velocity": [0, -2, 0]}],
@@ -213,6 +214,8 @@ TEST(SceneFile, CollisionKeysAreReadAndRoundTrip) {
   EXPECT_EQ(scene.collision.repulsion_stiffness, 500.0);
   EXPECT_EQ(scene.collision.max_ccd_passes, 4);
   EXPECT_EQ(scene.collision.max_rounds, 2);
+  EXPECT_EQ(scene.collision.strain_limit, 0.5);
+  EXPECT_EQ(scene.collision.strain_limit_sweeps, 8);
   const ClothDesc& cloth = scene.cloths[0];
   EXPECT_EQ(cloth.thickness, 0.004);
   EXPECT_EQ(cloth.contact.static_friction, 0.6);
@@ -251,9 +254,15 @@ TEST(SceneFile, CollisionKeyErrorsNameThePath) {
   expect_scene_error(collision_scene, {"colliders.0.friction=-1"}, "/colliders/0/friction", ">= 0");
   expect_scene_error(collision_scene, {"cloths.0.friction.dynamic=1"}, "/cloths/0/friction/dynamic",
                      "unknown key");
-  expect_scene_error(collision_scene, {"cloths.0.self_collision=1"}, "/cloths/0/self_collision", "true or false");
-  expect_scene_error(collision_scene, {"collision.max_rounds=0"}, "/collision/max_rounds", "integer in [1, 100]");
-  expect_scene_error(collision_scene, {"colliders.0={\"type\": \"mesh\"}"}, "/colliders/0", "needs an OBJ file");
+  expect_scene_error(collision_scene, {"cloths.0.self_collision=1"}, "/cloths/0/self_collision",
+                     "true or false");
+  expect_scene_error(collision_scene, {"collision.max_rounds=0"}, "/collision/max_rounds",
+                     "integer in [1, 100]");
+  expect_scene_error(collision_scene, {"collision.strain_limit=-0.1"}, "/collision/strain_limit", ">= 0");
+  expect_scene_error(collision_scene, {"collision.strain_limit_sweeps=0"}, "/collision/strain_limit_sweeps",
+                     "integer in [1, 1000]");
+  expect_scene_error(collision_scene, {"colliders.0={\"type\": \"mesh\"}"}, "/colliders/0",
+                     "needs an OBJ file");
   expect_scene_error(collision_scene, {"colliders.0={\"type\": \"mesh\", \"obj\": \"nowhere.obj\"}"},
                      "/colliders/0/obj", "nowhere.obj");
 }

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "core/intersection_check.hpp"
+#include "core/topology.hpp"
 #include "io/scene_builder.hpp"
 #include "io/scene_file.hpp"
 #include "support/scene_invariants.hpp"
@@ -45,6 +46,52 @@ TEST(CollisionPhase, AClothThrownFasterThanAStepStopsOnAThinBox) {
   EXPECT_GT(world.cloths()[0].state.x.row(1).minCoeff(), 0.001);
   EXPECT_GT(totals.vertex_face_candidates, 0);  // the box was seen (self pairs of the flat sheet are culled)
   EXPECT_TRUE(world.last_step_stats().collisions_clean);
+}
+
+// Largest |x_j - x_i| / rest - 1 over the cloth's edges.
+double largest_edge_strain(const Cloth& cloth) {
+  const MeshTopology topology = build_topology(cloth.model.triangles, static_cast<int>(cloth.state.x.cols()));
+  double largest = 0.0;
+  for (int e = 0; e < topology.num_edges(); ++e) {
+    const int i = topology.edges(0, e);
+    const int j = topology.edges(1, e);
+    const double rest = (cloth.model.rest_positions.col(j) - cloth.model.rest_positions.col(i)).norm();
+    largest = std::max(largest, (cloth.state.x.col(j) - cloth.state.x.col(i)).norm() / rest - 1.0);
+  }
+  return largest;
+}
+
+TEST(CollisionPhase, StrainLimitBoundsTheStretchTheImpulsesLeave) {
+  // The middle strip of a cloth thrown at 30 m/s stops on a narrow thin box while the sides fly
+  // on by 30 cm a step: the edges over the box's rims stretch several times, unless limited.
+  const auto scene_with_limit = [](double limit) {
+    return R"({
+      "solver": {"integrator": "symplectic_euler", "time_step": 0.01},
+      "collision": {"strain_limit": )" +
+           std::to_string(limit) + R"(},
+      "cloths": [{"grid": {"size": [0.4, 0.4], "resolution": [6, 6]}, "initial_velocity": [0, -30, 0],
+                  "transform": {"translation": [0, 0.2, 0], "rotation_degrees": [-90, 0, 0]},
+                  "springs": {"structural": {"stiffness": 10, "damping": 0}, "shear": {"stiffness": 0, "damping": 0},
+                              "bend": {"stiffness": 0, "damping": 0}}}],
+      "colliders": [{"type": "box", "center": [0, 0, 0], "half_extents": [0.1, 0.001, 1]}]
+    })";
+  };
+  World free = world_of(scene_with_limit(0.0));
+  World limited = world_of(scene_with_limit(0.2));
+  const testing::SceneInvariants free_invariants(free);
+  const testing::SceneInvariants limited_invariants(limited);
+  double free_strain = 0.0;
+  int corrections = 0;
+  for (int k = 0; k < 3; ++k) {
+    run(free, 1, free_invariants);
+    run(limited, 1, limited_invariants);
+    free_strain = std::max(free_strain, largest_edge_strain(free.cloths()[0]));
+    EXPECT_LE(largest_edge_strain(limited.cloths()[0]), 1.2 * (1.0 + 1e-3) - 1.0 + 1e-12) << "step " << k;
+    EXPECT_TRUE(limited.last_step_stats().collisions_clean) << "step " << k;
+    corrections += limited.last_step_stats().strain_limited_edges;
+  }
+  EXPECT_GT(free_strain, 1.0) << "the scene must stretch the cloth for the limit to matter";
+  EXPECT_GT(corrections, 0);
 }
 
 TEST(CollisionPhase, RecordsSayWhatTouchedWhat) {

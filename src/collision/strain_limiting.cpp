@@ -1,0 +1,55 @@
+#include "collision/strain_limiting.hpp"
+
+#include <algorithm>
+
+namespace weft {
+
+namespace {
+
+// An edge within this fraction of its limit counts as limited (sweeps stop there).
+constexpr double limit_slack = 1e-3;
+
+}  // namespace
+
+StrainLimitResult limit_edge_strain(CollisionStep& step, const std::vector<double>& rest_length,
+                                    double max_strain, int max_sweeps) {
+  StrainLimitResult result;
+  const int num_edges = static_cast<int>(step.edges.cols());
+  const double h = step.time_step;
+  for (int e = 0; e < num_edges; ++e) {
+    if (!(rest_length[e] > 0.0)) continue;
+    const double length = (step.x_end.col(step.edges(1, e)) - step.x_end.col(step.edges(0, e))).norm();
+    result.largest_strain_before = std::max(result.largest_strain_before, length / rest_length[e] - 1.0);
+  }
+  if (!(result.largest_strain_before > max_strain * (1.0 + limit_slack))) return result;
+
+  for (; result.sweeps < max_sweeps;) {
+    ++result.sweeps;
+    int corrected = 0;
+    for (int e = 0; e < num_edges; ++e) {
+      const double rest = rest_length[e];
+      if (!(rest > 0.0)) continue;
+      const int i = step.edges(0, e);
+      const int j = step.edges(1, e);
+      const double w_i = step.inverse_mass[i];
+      const double w_j = step.inverse_mass[j];
+      if (!(w_i + w_j > 0.0)) continue;
+      const Vec3 d = step.x_end.col(j) - step.x_end.col(i);
+      const double length = d.norm();
+      const double limit = (1.0 + max_strain) * rest;
+      if (!(length > limit)) continue;
+      // Shorten to the limit exactly; count it when it was past the slack.
+      if (length > limit * (1.0 + limit_slack)) ++corrected;
+      const Vec3 shift = (length - limit) / (length * (w_i + w_j)) * d;
+      step.x_end.col(i) += w_i * shift;
+      step.velocity.col(i) += (w_i / h) * shift;
+      step.x_end.col(j) -= w_j * shift;
+      step.velocity.col(j) -= (w_j / h) * shift;
+    }
+    result.corrected_edges += corrected;
+    if (corrected == 0) break;
+  }
+  return result;
+}
+
+}  // namespace weft

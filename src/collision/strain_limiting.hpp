@@ -1,0 +1,28 @@
+#pragma once
+// Strain limiting on the candidate motion (Provot 1995; Bridson, Marino & Fedkiw 2003): after the
+// proximity impulses and before continuous detection, every cloth edge stretched past
+// (1 + max_strain) times its rest length at the end of the step is shortened to that length,
+// its two ends moving along the edge in inverse proportion to their masses (so linear momentum
+// is kept and a pinned end does not move). Gauss-Seidel sweeps over the edges, each correction
+// of x_end by dx adding dx/h to the velocity. It bounds the stretch that contact impulses in
+// dense multi-layer contact leave behind; continuous detection runs on the limited motion, so the
+// no-intersection guarantee is unchanged.
+#include <vector>
+
+#include "collision/collision_step.hpp"
+
+namespace weft {
+
+struct StrainLimitResult {
+  int sweeps = 0;                      // sweeps run
+  int corrected_edges = 0;             // edge corrections, summed over the sweeps
+  double largest_strain_before = 0.0;  // largest |x_j - x_i| / rest - 1 over the edges, before
+};
+
+// Limits the stretch of the edges step.edges(:, e) with rest_length[e] > 0 (edges of zero or
+// negative rest length, e.g. collider edges, are skipped). Sweeps until no edge exceeds the bound
+// by more than 1e-3 of it, at most max_sweeps times.
+StrainLimitResult limit_edge_strain(CollisionStep& step, const std::vector<double>& rest_length,
+                                    double max_strain, int max_sweeps);
+
+}  // namespace weft
