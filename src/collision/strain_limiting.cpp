@@ -21,7 +21,8 @@ StrainLimitResult limit_edge_strain(CollisionStep& step, const std::vector<doubl
     const double length = (step.x_end.col(step.edges(1, e)) - step.x_end.col(step.edges(0, e))).norm();
     result.largest_strain_before = std::max(result.largest_strain_before, length / rest_length[e] - 1.0);
   }
-  if (!(result.largest_strain_before > max_strain * (1.0 + limit_slack))) return result;
+  // The same test as a sweep's count below: some edge is over its limit by more than the slack.
+  if (!(1.0 + result.largest_strain_before > (1.0 + max_strain) * (1.0 + limit_slack))) return result;
 
   for (; result.sweeps < max_sweeps;) {
     ++result.sweeps;

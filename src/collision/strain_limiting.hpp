@@ -1,9 +1,9 @@
 #pragma once
 // Strain limiting on the candidate motion (Provot 1995; Bridson, Marino & Fedkiw 2003): after the
-// proximity impulses and before continuous detection, every cloth edge stretched past
-// (1 + max_strain) times its rest length at the end of the step is shortened to that length,
-// its two ends moving along the edge in inverse proportion to their masses (so linear momentum
-// is kept and a pinned end does not move). Gauss-Seidel sweeps over the edges, each correction
+// proximity impulses and after each round's CCD impulses (before the impact zones), every cloth
+// edge stretched past (1 + max_strain) times its rest length at the end of the step is shortened
+// to that length, its two ends moving along the edge in inverse proportion to their masses (so
+// linear momentum is kept and a pinned end does not move). Gauss-Seidel sweeps over the edges, each correction
 // of x_end by dx adding dx/h to the velocity. It bounds the stretch that contact impulses in
 // dense multi-layer contact leave behind; continuous detection runs on the limited motion, so the
 // no-intersection guarantee is unchanged.

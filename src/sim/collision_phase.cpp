@@ -70,16 +70,14 @@ void CollisionPhase::set_meshes(const std::vector<Cloth>& cloths, const std::vec
     triangles_.middleCols(slot.offsets.triangle, slot.global_triangles.cols()) = slot.global_triangles;
     edges_.middleCols(slot.offsets.edge, slot.topology.num_edges()) =
         slot.topology.edges.array() + slot.offsets.vertex;
+    std::fill_n(vertex_mesh_.begin() + slot.offsets.vertex, slot.num_vertices, static_cast<int>(m));
     if (m < cloths.size()) {
+      inverse_mass_.segment(slot.offsets.vertex, slot.num_vertices) = cloths[m].model.inverse_mass;
       const Positions& rest = cloths[m].model.rest_positions;
       for (int e = 0; e < slot.topology.num_edges(); ++e) {
         edge_rest_length_[slot.offsets.edge + e] =
             (rest.col(slot.topology.edges(1, e)) - rest.col(slot.topology.edges(0, e))).norm();
       }
-    }
-    std::fill_n(vertex_mesh_.begin() + slot.offsets.vertex, slot.num_vertices, static_cast<int>(m));
-    if (m < cloths.size()) {
-      inverse_mass_.segment(slot.offsets.vertex, slot.num_vertices) = cloths[m].model.inverse_mass;
     } else {
       // Static colliders sit still for good; kinematic ones are posed every step.
       const ColliderSurface& collider = colliders[m - cloths.size()];

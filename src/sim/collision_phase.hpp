@@ -56,9 +56,9 @@ struct CollisionSettings {
   // N/m; > 0 adds the last step's proximity contacts to implicit Euler's incremental potential
   // as a one-sided quadratic penalty (physics/contact_penalty.hpp); 0: off
   double penalty_stiffness = 0.0;
-  // > 0: after the proximity impulses, cloth edges longer than (1 + strain_limit) times their rest
-  // length are shortened to it (collision/strain_limiting.hpp), in at most strain_limit_sweeps
-  // Gauss-Seidel sweeps; 0: off
+  // > 0: after the proximity impulses and after each round's CCD impulses, cloth edges longer
+  // than (1 + strain_limit) times their rest length are shortened to it
+  // (collision/strain_limiting.hpp), in at most strain_limit_sweeps Gauss-Seidel sweeps; 0: off
   double strain_limit = 0.0;
   int strain_limit_sweeps = 32;
   BvhSettings bvh;
