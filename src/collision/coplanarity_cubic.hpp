@@ -29,9 +29,23 @@ CoplanarityCubic coplanarity_cubic(const Vec3& a, const Vec3& da, const Vec3& b,
 
 double evaluate(const CoplanarityCubic& cubic, double t);
 
+// False when |f| > tolerance all over [0, 1] (a cheap, conservative test on the Bernstein
+// coefficients; near_coplanar_intervals starts with it). Most candidate pairs whose four points
+// are not coplanar at any time of the step are settled by it.
+bool may_vanish(const CoplanarityCubic& cubic);
+
 // Disjoint intervals of [0, 1], in increasing order, on which |f| <= tolerance (widened by the
 // bisection so that no such time is left out). Returns how many were written (at most 3).
 int near_coplanar_intervals(const CoplanarityCubic& cubic, std::array<TimeInterval, 3>& intervals);
+
+// False when a distance that is d_start at t = 0, d_end at t = 1 and `lipschitz`-Lipschitz in
+// between cannot come within eta over [0, 1]: d(t) >= max(d_start - L t, d_end - L (1 - t)) >=
+// (d_start + d_end - L) / 2. The continuous tests run it after may_vanish: it settles the pairs
+// that stay nearly coplanar all step long (neighbours in a flat sheet) but never close. The margin
+// covers the round-off of the three inputs.
+inline bool may_come_within(double d_start, double d_end, double lipschitz, double eta) {
+  return d_start + d_end - lipschitz <= 2.0 * eta + 1e-12 * (d_start + d_end + lipschitz);
+}
 
 // Earliest time in [begin, end] at which distance_at(t) <= eta, by conservative advancement:
 // distance_at is `lipschitz`-Lipschitz in t, so no time closer than eta is skipped. Returns a

@@ -48,9 +48,7 @@ std::optional<EdgeEdgeImpact> edge_edge_ccd(const Vec3& a0_start, const Vec3& a1
   // (x21 + t v21) x (x43 + t v43) . (x31 + t v31) = 0.
   const CoplanarityCubic cubic = coplanarity_cubic(a1_start - a0_start, da1 - da0, b1_start - b0_start,
                                                    db1 - db0, b0_start - a0_start, db0 - da0);
-  std::array<TimeInterval, 3> intervals;
-  const int count = near_coplanar_intervals(cubic, intervals);
-  if (count == 0) return std::nullopt;
+  if (!may_vanish(cubic)) return std::nullopt;
 
   // The edge-edge distance changes no faster than the largest relative endpoint speed.
   const double lipschitz =
@@ -59,6 +57,11 @@ std::optional<EdgeEdgeImpact> edge_edge_ccd(const Vec3& a0_start, const Vec3& a1
     return edge_edge_closest(a0_start + t * da0, a1_start + t * da1, b0_start + t * db0, b1_start + t * db1)
         .distance;
   };
+  if (!may_come_within(distance_at(0.0), distance_at(1.0), lipschitz, eta)) return std::nullopt;
+
+  std::array<TimeInterval, 3> intervals;
+  const int count = near_coplanar_intervals(cubic, intervals);
+  if (count == 0) return std::nullopt;
 
   // Proximity test over each coplanar interval, earliest first.
   for (int k = 0; k < count; ++k) {

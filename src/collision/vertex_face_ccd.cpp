@@ -46,9 +46,7 @@ std::optional<VertexFaceImpact> vertex_face_ccd(const Vec3& p_start, const Vec3&
   // Coplanarity (BFA eq. 6 with x1 = a): (x21 + t v21) x (x31 + t v31) . (x41 + t v41) = 0.
   const CoplanarityCubic cubic =
       coplanarity_cubic(b_start - a_start, db - da, c_start - a_start, dc - da, p_start - a_start, dp - da);
-  std::array<TimeInterval, 3> intervals;
-  const int count = near_coplanar_intervals(cubic, intervals);
-  if (count == 0) return std::nullopt;
+  if (!may_vanish(cubic)) return std::nullopt;
 
   // The vertex-triangle distance changes no faster than the largest relative vertex speed.
   const double lipschitz = std::max({(dp - da).norm(), (dp - db).norm(), (dp - dc).norm()});
@@ -56,6 +54,11 @@ std::optional<VertexFaceImpact> vertex_face_ccd(const Vec3& p_start, const Vec3&
     return point_triangle_closest(p_start + t * dp, a_start + t * da, b_start + t * db, c_start + t * dc)
         .distance;
   };
+  if (!may_come_within(distance_at(0.0), distance_at(1.0), lipschitz, eta)) return std::nullopt;
+
+  std::array<TimeInterval, 3> intervals;
+  const int count = near_coplanar_intervals(cubic, intervals);
+  if (count == 0) return std::nullopt;
 
   // Proximity test over each coplanar interval, earliest first.
   for (int k = 0; k < count; ++k) {

@@ -1,9 +1,11 @@
 // The coplanarity cubic: coefficients against direct evaluation, near-coplanar intervals for
-// simple, double and triple roots, degenerate (quadratic, linear, zero) cubics, and conservative
-// advancement.
+// simple, double and triple roots, degenerate (quadratic, linear, zero) cubics, the two early
+// rejections (Bernstein bound, Lipschitz distance bound) and conservative advancement.
 #include "collision/coplanarity_cubic.hpp"
 
 #include <gtest/gtest.h>
+
+#include "collision/point_triangle.hpp"
 
 #include <random>
 
@@ -116,6 +118,65 @@ TEST(CoplanarityCubic, RandomCubicsHaveEverySampledSignChangeCovered) {
     }
   }
   EXPECT_GT(roots_checked, 4500);
+}
+
+TEST(CoplanarityCubic, MayVanishRejectsOnlyCubicsBeyondTheToleranceAllOverTheStep) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int rejected = 0, kept_with_root = 0;
+  for (int trial = 0; trial < 5000; ++trial) {
+    // Roots anywhere in [-1.5, 2.5]: about half the cubics have none in [0, 1].
+    const double r0 = 0.5 + 2.0 * u(rng), r1 = 0.5 + 2.0 * u(rng), r2 = 0.5 + 2.0 * u(rng);
+    const double scale = std::pow(10.0, 3 * u(rng));
+    const CoplanarityCubic cubic = cubic_of(-scale * r0 * r1 * r2, scale * (r0 * r1 + r0 * r2 + r1 * r2),
+                                            -scale * (r0 + r1 + r2), scale, 1e-12 * scale);
+    double smallest = std::abs(evaluate(cubic, 0.0));
+    for (int i = 1; i <= 4000; ++i) smallest = std::min(smallest, std::abs(evaluate(cubic, i / 4000.0)));
+    const bool root_in_step = (r0 >= 0.0 && r0 <= 1.0) || (r1 >= 0.0 && r1 <= 1.0) || (r2 >= 0.0 && r2 <= 1.0);
+    if (!may_vanish(cubic)) {
+      ++rejected;
+      ASSERT_FALSE(root_in_step) << trial;
+      ASSERT_GT(smallest, cubic.tolerance) << trial;
+      std::array<TimeInterval, 3> intervals;
+      EXPECT_EQ(near_coplanar_intervals(cubic, intervals), 0);
+    } else if (root_in_step) {
+      ++kept_with_root;
+    }
+  }
+  // It must settle a good share of the cubics without a root (else it is no filter) and keep
+  // every one with a root.
+  EXPECT_GT(rejected, 1000);
+  EXPECT_GT(kept_with_root, 2000);
+}
+
+TEST(ConservativeAdvancement, MayComeWithinKeepsEveryVertexTrianglePairThatComesClose) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto random_point = [&] { return Vec3(u(rng), u(rng), u(rng)); };
+  const double eta = 0.05;
+  int close = 0, rejected = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const Vec3 p = random_point(), a = random_point(), b = random_point(), c = random_point();
+    const Vec3 dp = 0.5 * random_point(), da = 0.5 * random_point(), db = 0.5 * random_point(),
+               dc = 0.5 * random_point();
+    const auto distance_at = [&](double t) {
+      return point_triangle_closest(p + t * dp, a + t * da, b + t * db, c + t * dc).distance;
+    };
+    const double lipschitz = std::max({(dp - da).norm(), (dp - db).norm(), (dp - dc).norm()});
+    double smallest = distance_at(0.0);
+    for (int i = 1; i <= 1000; ++i) smallest = std::min(smallest, distance_at(i / 1000.0));
+    const bool kept = may_come_within(distance_at(0.0), distance_at(1.0), lipschitz, eta);
+    if (smallest <= eta) {
+      ++close;
+      ASSERT_TRUE(kept) << trial;
+    }
+    if (!kept) ++rejected;
+  }
+  EXPECT_GT(close, 100);
+  EXPECT_GT(rejected, 1000);
+  // The bound is tight: a point passing straight through at the largest speed.
+  EXPECT_TRUE(may_come_within(0.5, 0.5, 1.0, 0.0));
+  EXPECT_FALSE(may_come_within(0.5, 0.5, 0.9, 0.0));
 }
 
 TEST(ConservativeAdvancement, FindsTheFirstTimeWithinEtaAndNothingWhenNone) {
