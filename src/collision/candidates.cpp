@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <limits>
 
 namespace weft {
@@ -12,10 +13,38 @@ bool has_corner(const Triangles& triangles, int t, int v) {
   return triangles(0, t) == v || triangles(1, t) == v || triangles(2, t) == v;
 }
 
-template <typename T>
-void sort_and_deduplicate(std::vector<T>& items) {
-  std::sort(items.begin(), items.end());
-  items.erase(std::unique(items.begin(), items.end()), items.end());
+// Sorts 64-bit keys and drops repeats: least-significant-digit radix sort, a byte a pass, passes
+// whose byte is the same in every key skipped (indices below 2^16 leave half the passes out).
+// Several times faster than std::sort on the tens of thousands of pairs of a step.
+void sort_unique_keys(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& scratch) {
+  const size_t n = keys.size();
+  scratch.resize(n);
+  for (int shift = 0; shift < 64; shift += 8) {
+    std::array<size_t, 257> start{};
+    for (const std::uint64_t key : keys) ++start[((key >> shift) & 255u) + 1];
+    if (std::find(start.begin() + 1, start.end(), n) != start.end()) continue;  // one digit for all
+    for (int d = 0; d < 256; ++d) start[d + 1] += start[d];
+    for (const std::uint64_t key : keys) scratch[start[(key >> shift) & 255u]++] = key;
+    keys.swap(scratch);
+  }
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+}
+
+// Sorts pairs of non-negative indices by (first, second) and removes duplicates, through keys
+// first << 32 | second.
+template <typename T, int T::*First, int T::*Second>
+void sort_and_deduplicate(std::vector<T>& items, std::vector<std::uint64_t>& keys,
+                          std::vector<std::uint64_t>& scratch) {
+  keys.resize(items.size());
+  for (size_t k = 0; k < items.size(); ++k) {
+    keys[k] = std::uint64_t(std::uint32_t(items[k].*First)) << 32 | std::uint32_t(items[k].*Second);
+  }
+  sort_unique_keys(keys, scratch);
+  items.resize(keys.size());
+  for (size_t k = 0; k < keys.size(); ++k) {
+    items[k].*First = static_cast<int>(keys[k] >> 32);
+    items[k].*Second = static_cast<int>(keys[k] & 0xffffffffu);
+  }
 }
 
 struct Box {
@@ -108,8 +137,10 @@ void append_candidates_between(const std::vector<TrianglePair>& pairs, const Can
 }
 
 void sort_candidates(CollisionCandidates& candidates) {
-  sort_and_deduplicate(candidates.vertex_face);
-  sort_and_deduplicate(candidates.edge_edge);
+  sort_and_deduplicate<VertexFacePair, &VertexFacePair::vertex, &VertexFacePair::triangle>(
+      candidates.vertex_face, candidates.sort_keys, candidates.sort_scratch);
+  sort_and_deduplicate<EdgeEdgePair, &EdgeEdgePair::edge_a, &EdgeEdgePair::edge_b>(
+      candidates.edge_edge, candidates.sort_keys, candidates.sort_scratch);
 }
 
 void add_self_candidates(const std::vector<TrianglePair>& pairs, const CandidateMesh& mesh,

@@ -10,6 +10,7 @@
 // are written in these combined indices, so pairs within a cloth, between two cloths and
 // between a cloth and an obstacle all land in one sorted list. Local edge indices are those of
 // the mesh's MeshTopology (core/topology.hpp).
+#include <cstdint>
 #include <vector>
 
 #include "collision/bvh.hpp"
@@ -51,6 +52,7 @@ struct CandidateMesh {
 struct CollisionCandidates {
   std::vector<VertexFacePair> vertex_face;
   std::vector<EdgeEdgePair> edge_edge;
+  std::vector<std::uint64_t> sort_keys, sort_scratch;  // sort_candidates' buffers, kept to grow once
 
   void clear() {
     vertex_face.clear();
@@ -75,7 +77,7 @@ void append_self_candidates(const std::vector<TrianglePair>& pairs, const Candid
                             CollisionCandidates& candidates);
 void append_candidates_between(const std::vector<TrianglePair>& pairs, const CandidateMesh& first,
                                const CandidateMesh& second, CollisionCandidates& candidates);
-// Sorts both lists and removes duplicates.
+// Sorts both lists (by their first index, then their second) and removes duplicates.
 void sort_candidates(CollisionCandidates& candidates);
 
 }  // namespace weft

@@ -247,3 +247,32 @@ TEST(Candidates, BetweenMeshesUseCombinedIndices) {
 
 }  // namespace
 }  // namespace weft
+
+namespace weft {
+namespace {
+
+TEST(Candidates, SortCandidatesOrdersAndDeduplicatesLikeStdSort) {
+  std::mt19937 rng(13);
+  for (const int largest : {50, 70000, 2147483647}) {
+    std::uniform_int_distribution<int> index(0, largest);
+    CollisionCandidates candidates;
+    for (int k = 0; k < 20000; ++k) {
+      candidates.vertex_face.push_back({index(rng), index(rng)});
+      candidates.edge_edge.push_back({index(rng), index(rng)});
+      if (k % 3 == 0) candidates.edge_edge.push_back(candidates.edge_edge.back());  // repeats
+    }
+    std::vector<VertexFacePair> vertex_face = candidates.vertex_face;
+    std::vector<EdgeEdgePair> edge_edge = candidates.edge_edge;
+    std::sort(vertex_face.begin(), vertex_face.end());
+    vertex_face.erase(std::unique(vertex_face.begin(), vertex_face.end()), vertex_face.end());
+    std::sort(edge_edge.begin(), edge_edge.end());
+    edge_edge.erase(std::unique(edge_edge.begin(), edge_edge.end()), edge_edge.end());
+    sort_candidates(candidates);
+    EXPECT_TRUE(candidates.vertex_face == vertex_face) << largest;
+    EXPECT_TRUE(candidates.edge_edge == edge_edge) << largest;
+    EXPECT_LT(edge_edge.size(), 26667u);  // the repeats were there to remove
+  }
+}
+
+}  // namespace
+}  // namespace weft
