@@ -14,14 +14,18 @@ TermEnergies& TermEnergies::operator+=(const TermEnergies& other) {
   return *this;
 }
 
-void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianStencils& stencils) {
+void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianStencils& stencils,
+                     bool lump_hinge_wings) {
   hessian.begin_pattern(static_cast<int>(model.rest_positions.cols()));
   stencils = HessianStencils{};
   if (model.springs.size() > 0) stencils.springs = hessian.add_stencil<2>(model.springs.vertices);
   if (model.membrane.enabled() || model.air_drag.enabled() || model.pressure.enabled) {
     stencils.triangles = hessian.add_stencil<3>(model.triangles);
   }
-  if (model.bending.enabled()) stencils.hinges = hessian.add_stencil<4>(model.bending.hinges);
+  if (model.bending.enabled()) {
+    stencils.hinges = lump_hinge_wings ? hessian.add_stencil<4>(model.bending.hinges, 2, 3)
+                                       : hessian.add_stencil<4>(model.bending.hinges);
+  }
   hessian.finish_pattern();
   std::vector<char> fixed(model.inverse_mass.size());
   for (Eigen::Index i = 0; i < model.inverse_mass.size(); ++i) fixed[i] = model.inverse_mass[i] == 0.0;

@@ -26,7 +26,11 @@ struct HessianStencils {
 };
 
 // Builds the Hessian's sparsity pattern for the cloth's enabled terms and its fixed vertices.
-void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianStencils& stencils);
+// `lump_hinge_wings` leaves the blocks between each hinge's wing tips out (their part is lumped
+// onto the tips' diagonal blocks, hinge_bending.hpp): only for PSD-projected (Gauss-Newton)
+// Hessians, i.e. the conjugate gradient path, never for an exact one.
+void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianStencils& stencils,
+                     bool lump_hinge_wings = false);
 
 // Potential energy E(x) (elastic terms and gravity). Adds dE/dx to `gradient` and the
 // element-wise PSD-projected Hessian (if `project`) to `hessian` when they are not null.

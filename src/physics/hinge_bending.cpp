@@ -156,6 +156,7 @@ BendingTerm make_bending_term(const MeshTopology& topology, const Positions& res
 
 double evaluate_hinge_bending(const BendingTerm& term, const Positions& x, Positions* gradient,
                               SparseHessian* hessian, int stencil, bool project) {
+  const bool lump_wings = hessian != nullptr && !hessian->couples(stencil, 2, 3);
   return term.coloring.sum_over_elements(static_cast<int>(term.hinges.cols()), [&](int h) {
     Vector12d element_gradient;
     Matrix12d element_hessian;
@@ -166,6 +167,11 @@ double evaluate_hinge_bending(const BendingTerm& term, const Positions& x, Posit
                              /*gauss_newton=*/project);
     if (gradient) {
       for (int k = 0; k < 4; ++k) gradient->col(v[k]) += element_gradient.segment<3>(3 * k);
+    }
+    if (lump_wings) {
+      // Gauss-Newton blocks: H22 = 2k a2 a2^T, H33 = 2k a3 a3^T; lumping H23 doubles both.
+      element_hessian.block<3, 3>(6, 6) *= 2.0;
+      element_hessian.block<3, 3>(9, 9) *= 2.0;
     }
     if (hessian) hessian->add_element<4>(stencil, h, element_hessian);
     return energy;

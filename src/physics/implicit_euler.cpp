@@ -4,9 +4,10 @@
 
 namespace weft {
 
-void ImplicitEulerSolver::prepare(const ClothModel& model) {
+void ImplicitEulerSolver::prepare(const ClothModel& model, bool lump_hinge_wings) {
   num_vertices_ = static_cast<int>(model.rest_positions.cols());
-  prepare_hessian(model, hessian_, stencils_);
+  lump_hinge_wings_ = lump_hinge_wings;
+  prepare_hessian(model, hessian_, stencils_, lump_hinge_wings);
   x_start_.resize(3, num_vertices_);
   x_hat_.resize(3, num_vertices_);
   gradient_.resize(3, num_vertices_);
@@ -72,7 +73,12 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   const ClothModel& model = cloth.model;
   penalty_ = penalty != nullptr && penalty->active() ? penalty : nullptr;
   ClothState& state = cloth.state;
-  if (!prepared_ || num_vertices_ != cloth.num_vertices()) prepare(model);
+  // CG always solves with the projected Hessian, whose hinge wing-tip blocks can be lumped
+  // (half the blocks of a row); Cholesky tries the exact one first, which needs them.
+  const bool lump_hinge_wings = settings.linear_solver == LinearSolverKind::conjugate_gradient;
+  if (!prepared_ || num_vertices_ != cloth.num_vertices() || lump_hinge_wings != lump_hinge_wings_) {
+    prepare(model, lump_hinge_wings);
+  }
   report_.newton_iterations = 0;
   report_.linear_iterations = 0;
   report_.converged = false;

@@ -53,7 +53,7 @@ class ImplicitEulerSolver {
   const NewtonReport& last_report() const { return report_; }
 
  private:
-  void prepare(const ClothModel& model);
+  void prepare(const ClothModel& model, bool lump_hinge_wings);
   double incremental_potential(const ClothModel& model, const Vec3& gravity, const Positions& x, double h,
                                Positions* gradient, bool assemble, bool project);
   bool solve(const ImplicitEulerSettings& settings, double cg_tolerance);
@@ -62,6 +62,7 @@ class ImplicitEulerSolver {
   ConjugateGradientSolver::Coupling coupling_;  // penalty coupling blocks at x_linearized_
   Positions x_linearized_;                      // where the Hessian was last assembled
   bool prepared_ = false;
+  bool lump_hinge_wings_ = false;  // the pattern leaves the hinges' wing-tip blocks out (CG)
   int num_vertices_ = 0;
   SparseHessian hessian_;
   HessianStencils stencils_;

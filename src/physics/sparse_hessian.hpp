@@ -3,6 +3,7 @@
 // built once: each element stores where its 3x3 blocks live in the value array, so a step only
 // zeroes and adds values (no allocation, no search). Fixed (pinned) vertices become identity
 // rows and columns, so the Newton system only moves free vertices.
+#include <utility>
 #include <vector>
 
 #include <Eigen/SparseCore>
@@ -18,8 +19,17 @@ class SparseHessian {
   // Pattern building: the diagonal blocks of all vertices are always present.
   void begin_pattern(int num_vertices);
   // Registers elements of K vertices each (K x n_elements indices); returns the stencil's id.
+  // The blocks between the elements' local vertices `uncoupled_a` and `uncoupled_b` (when given)
+  // stay out of the pattern: add_element() skips them, so the caller must have moved what they
+  // held elsewhere (the hinges' wing tips, see hinge_bending.hpp).
   template <int K>
-  int add_stencil(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements);
+  int add_stencil(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements, int uncoupled_a = -1,
+                  int uncoupled_b = -1);
+  // Whether local vertices a and b of the stencil's elements have their blocks in the pattern.
+  bool couples(int stencil, int a, int b) const {
+    const std::pair<int, int>& pair = stencil_uncoupled_[stencil];
+    return !((a == pair.first && b == pair.second) || (a == pair.second && b == pair.first));
+  }
   void finish_pattern();
 
   // Vertices whose rows and columns become identity at finish_assembly().
@@ -61,6 +71,7 @@ class SparseHessian {
   int num_vertices_ = 0;
   std::vector<std::vector<int>> block_columns_;  // during pattern building: block columns per block row
   std::vector<int> stencil_sizes_;               // K of each stencil
+  std::vector<std::pair<int, int>> stencil_uncoupled_;  // local pair left out of each stencil, or (-1, -1)
   std::vector<Eigen::MatrixXi> stencil_elements_;
   std::vector<std::vector<int>> stencil_slots_;  // per stencil: (n_elements x K x K x 3) value offsets
   std::vector<int> diagonal_slots_;              // per vertex: 3 offsets of its diagonal block rows
@@ -70,10 +81,15 @@ class SparseHessian {
 };
 
 template <int K>
-int SparseHessian::add_stencil(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements) {
+int SparseHessian::add_stencil(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements, int uncoupled_a,
+                               int uncoupled_b) {
+  stencil_uncoupled_.emplace_back(uncoupled_a, uncoupled_b);
+  const int stencil = static_cast<int>(stencil_sizes_.size());
   for (Eigen::Index e = 0; e < elements.cols(); ++e) {
     for (int a = 0; a < K; ++a) {
-      for (int b = 0; b < K; ++b) block_columns_[elements(a, e)].push_back(elements(b, e));
+      for (int b = 0; b < K; ++b) {
+        if (couples(stencil, a, b)) block_columns_[elements(a, e)].push_back(elements(b, e));
+      }
     }
   }
   stencil_sizes_.push_back(K);
@@ -87,6 +103,7 @@ void SparseHessian::add_element(int stencil, int e, const Eigen::Matrix<double, 
   double* values = matrix_.valuePtr();
   for (int a = 0; a < K; ++a) {
     for (int b = 0; b < K; ++b) {
+      if (slots[(a * K + b) * 3] < 0) continue;  // a pair left out of the pattern
       for (int r = 0; r < 3; ++r) {
         double* row = values + slots[(a * K + b) * 3 + r];
         for (int c = 0; c < 3; ++c) row[c] += element_matrix(3 * a + r, 3 * b + c);

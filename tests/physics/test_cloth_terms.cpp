@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <random>
+#include <tuple>
 
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
@@ -187,6 +188,58 @@ TEST(ClothTerms, ProjectedHessianIsSymmetricPositiveSemiDefinite) {
     EXPECT_LT((dense - dense.transpose()).norm(), 1e-12 * dense.norm());
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(dense);
     EXPECT_GT(eigen.eigenvalues().minCoeff(), -1e-9 * eigen.eigenvalues().maxCoeff());
+  }
+}
+
+TEST(ClothTerms, LumpedHingeWingsGiveAPsdHessianAboveTheFullOneWithHalfTheCoupling) {
+  const ClothModel model = every_term_model();
+  SparseHessian full, lumped;
+  HessianStencils full_stencils, lumped_stencils;
+  prepare_hessian(model, full, full_stencils);
+  prepare_hessian(model, lumped, lumped_stencils, /*lump_hinge_wings=*/true);
+  EXPECT_TRUE(full.couples(full_stencils.hinges, 2, 3));
+  EXPECT_FALSE(lumped.couples(lumped_stencils.hinges, 3, 2));
+  EXPECT_TRUE(lumped.couples(lumped_stencils.hinges, 0, 3));
+  // Without springs (here shear springs join some tips) the lumped pattern is the triangles':
+  // a hinge's tips share no triangle, so it has fewer entries.
+  {
+    World world = build_world(parse_scene(nlohmann::json::parse(R"({"cloths": [{
+      "grid": {"size": [1, 1], "resolution": [6, 6], "triangulation": "alternating"},
+      "springs": {"structural": {"stiffness": 0, "damping": 0}, "shear": {"stiffness": 0, "damping": 0},
+                  "bend": {"stiffness": 0, "damping": 0}},
+      "membrane": {"young_modulus": 1e4, "poisson_ratio": 0.3, "thickness": 1e-3},
+      "bending": {"stiffness": 1e-2}}]})"), "<inline>"));
+    const ClothModel& sheet = world.cloths()[0].model;
+    SparseHessian sheet_full, sheet_lumped;
+    HessianStencils ignored;
+    prepare_hessian(sheet, sheet_full, ignored);
+    prepare_hessian(sheet, sheet_lumped, ignored, /*lump_hinge_wings=*/true);
+    // 6x6 vertices: 36 diagonal blocks and 2 per edge (85), the triangles' pattern; the full
+    // hinges add the blocks between tips.
+    EXPECT_EQ(sheet_lumped.matrix().nonZeros(), 9 * (36 + 2 * 85));
+    EXPECT_GT(sheet_full.matrix().nonZeros(), sheet_lumped.matrix().nonZeros() + 9 * 2 * 40);
+  }
+  std::mt19937 rng(19);
+  for (int trial = 0; trial < 3; ++trial) {
+    const Positions x = perturbed(model.rest_positions, 0.1, rng);
+    Positions gradient_full = Positions::Zero(3, x.cols()), gradient_lumped = gradient_full;
+    for (auto [hessian, stencils, gradient] : {std::tuple{&full, &full_stencils, &gradient_full},
+                                               std::tuple{&lumped, &lumped_stencils, &gradient_lumped}}) {
+      hessian->set_zero();
+      evaluate_potential(model, Vec3::Zero(), x, gradient, hessian, *stencils, /*project=*/true);
+      hessian->finish_assembly();
+    }
+    EXPECT_EQ((gradient_full - gradient_lumped).cwiseAbs().maxCoeff(), 0.0);  // the gradient is untouched
+    const Eigen::MatrixXd dense_full = Eigen::MatrixXd(full.matrix());
+    const Eigen::MatrixXd dense_lumped = Eigen::MatrixXd(lumped.matrix());
+    EXPECT_LT((dense_lumped - dense_lumped.transpose()).norm(), 1e-12 * dense_lumped.norm());
+    // Lumped - full = sum over hinges of 2k (a2; -a3)(a2; -a3)^T: PSD and not zero.
+    const Eigen::MatrixXd difference = dense_lumped - dense_full;
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(difference);
+    EXPECT_GT(eigen.eigenvalues().minCoeff(), -1e-9 * dense_full.norm());
+    EXPECT_GT(eigen.eigenvalues().maxCoeff(), 1e-6 * dense_full.norm());
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> lumped_eigen(dense_lumped);
+    EXPECT_GT(lumped_eigen.eigenvalues().minCoeff(), -1e-9 * lumped_eigen.eigenvalues().maxCoeff());
   }
 }
 
