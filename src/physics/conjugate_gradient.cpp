@@ -1,5 +1,6 @@
 #include "physics/conjugate_gradient.hpp"
 
+#include <array>
 #include <cmath>
 
 namespace weft {
@@ -14,10 +15,37 @@ void ConjugateGradientSolver::compute_preconditioner(const SparseHessian& hessia
   }
 }
 
-void ConjugateGradientSolver::apply_preconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
-  const int n = static_cast<int>(inverse_blocks_.size());
+namespace {
+
+// First vertex of chunk c when n vertices are cut into `chunks` chunks.
+int chunk_begin(int c, int n, int chunks) { return static_cast<int>(static_cast<long long>(n) * c / chunks); }
+
+// Sum over the chunks of partial(begin, end), a partial sum over vertices [begin, end), added in
+// chunk order: the same bits whatever the thread count.
+template <size_t Chunks, class Partial>
+double chunked_sum(int n, std::array<double, Chunks>& partials, const Partial& partial) {
+  const int chunks = static_cast<int>(Chunks);
 #pragma omp parallel for schedule(static)
-  for (int i = 0; i < n; ++i) z.segment<3>(3 * i).noalias() = inverse_blocks_[i] * r.segment<3>(3 * i);
+  for (int c = 0; c < chunks; ++c) partials[c] = partial(chunk_begin(c, n, chunks), chunk_begin(c + 1, n, chunks));
+  double sum = 0.0;
+  for (const double value : partials) sum += value;
+  return sum;
+}
+
+}  // namespace
+
+// z = P^-1 r (block Jacobi); returns r . z.
+double ConjugateGradientSolver::apply_preconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+  const int n = static_cast<int>(inverse_blocks_.size());
+  return chunked_sum(n, partials_, [&](int begin, int end) {
+    double rz = 0.0;
+    for (int i = begin; i < end; ++i) {
+      const Vec3 zi = inverse_blocks_[i] * r.segment<3>(3 * i);
+      z.segment<3>(3 * i) = zi;
+      rz += zi.dot(r.segment<3>(3 * i));
+    }
+    return rz;
+  });
 }
 
 ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hessian, const Eigen::VectorXd& b,
@@ -25,6 +53,7 @@ ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hess
                                                        const Coupling* coupling) {
   const SparseHessian::Matrix& matrix = hessian.matrix();
   const Eigen::Index size = matrix.rows();
+  const int n = hessian.num_vertices();
   r_.resize(size);
   z_.resize(size);
   p_.resize(size);
@@ -38,25 +67,37 @@ ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hess
   }
   compute_preconditioner(hessian);
   r_ = b;
-  apply_preconditioner(r_, z_);
+  double rz = apply_preconditioner(r_, z_);
   p_ = z_;
-  double rz = r_.dot(z_);
   const double threshold = tolerance * b_norm;
   double r_norm = b_norm;
+  // Each iteration: the product, then three fused passes over the vectors (curvature; dx, r and
+  // |r|^2; z and r . z) and the new direction.
   while (report.iterations < max_iterations) {
     hessian.multiply(p_, q_);
     if (coupling != nullptr) (*coupling)(p_, q_);
-    const double curvature = p_.dot(q_);
+    const double curvature = chunked_sum(n, partials_, [&](int begin, int end) {
+      return p_.segment(3 * begin, 3 * (end - begin)).dot(q_.segment(3 * begin, 3 * (end - begin)));
+    });
     if (!(curvature > 0.0)) break;  // not positive definite along p (or NaN): stop with what we have
     const double alpha = rz / curvature;
-    dx.noalias() += alpha * p_;
-    r_.noalias() -= alpha * q_;
+    const double r_squared = chunked_sum(n, partials_, [&](int begin, int end) {
+      const Eigen::Index first = 3 * begin, count = 3 * (end - begin);
+      dx.segment(first, count) += alpha * p_.segment(first, count);
+      r_.segment(first, count) -= alpha * q_.segment(first, count);
+      return r_.segment(first, count).squaredNorm();
+    });
     ++report.iterations;
-    r_norm = r_.norm();
+    r_norm = std::sqrt(r_squared);
     if (r_norm <= threshold) break;
-    apply_preconditioner(r_, z_);
-    const double rz_next = r_.dot(z_);
-    p_ = z_ + (rz_next / rz) * p_;
+    const double rz_next = apply_preconditioner(r_, z_);
+    const double beta = rz_next / rz;
+#pragma omp parallel for schedule(static)
+    for (int c = 0; c < num_chunks; ++c) {
+      const Eigen::Index first = 3 * chunk_begin(c, n, num_chunks);
+      const Eigen::Index count = 3 * chunk_begin(c + 1, n, num_chunks) - first;
+      p_.segment(first, count) = z_.segment(first, count) + beta * p_.segment(first, count);
+    }
     rz = rz_next;
   }
   report.relative_residual = r_norm / b_norm;
