@@ -68,7 +68,7 @@ bool may_vanish(const CoplanarityCubic& cubic) {
   // On [0, 1] f is a convex combination of its Bernstein coefficients, so if they all lie beyond
   // the tolerance on one side, so does f. The margin covers their round-off and that of
   // evaluating f (each a few ulps of sum |c_i|), so no time near_coplanar_intervals would keep is
-  // dropped.
+  // dropped (test CoplanarityCubic.MayVanish...).
   const std::array<double, 4>& c = cubic.coefficients;
   const std::array<double, 4> bernstein = {c[0], c[0] + c[1] / 3.0, c[0] + (2.0 * c[1] + c[2]) / 3.0,
                                            c[0] + c[1] + c[2] + c[3]};
@@ -81,8 +81,6 @@ bool may_vanish(const CoplanarityCubic& cubic) {
 int near_coplanar_intervals(const CoplanarityCubic& cubic, std::array<TimeInterval, 3>& intervals) {
   const std::array<double, 4>& c = cubic.coefficients;
   const double tolerance = cubic.tolerance;
-
-  if (!may_vanish(cubic)) return 0;
 
   // Pieces on which f is monotone: f'' = 2 c2 + 6 c3 t is linear, so f' is monotone on each
   // side of its root; f' then changes sign at most once on each side (found by bisection).

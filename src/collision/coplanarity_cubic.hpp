@@ -30,8 +30,9 @@ CoplanarityCubic coplanarity_cubic(const Vec3& a, const Vec3& da, const Vec3& b,
 double evaluate(const CoplanarityCubic& cubic, double t);
 
 // False when |f| > tolerance all over [0, 1] (a cheap, conservative test on the Bernstein
-// coefficients; near_coplanar_intervals starts with it). Most candidate pairs whose four points
-// are not coplanar at any time of the step are settled by it.
+// coefficients), so that near_coplanar_intervals would find nothing. The continuous tests run it
+// first, and near_coplanar_intervals only on the cubics it keeps: most candidate pairs, whose
+// four points are not coplanar at any time of the step, are settled by it.
 bool may_vanish(const CoplanarityCubic& cubic);
 
 // Disjoint intervals of [0, 1], in increasing order, on which |f| <= tolerance (widened by the
