@@ -156,6 +156,15 @@ void find_pairs_between(const Bvh& first, const Bvh& second, BvhQueryBuffers& bu
                         std::vector<TrianglePair>& pairs);
 std::vector<TrianglePair> find_pairs_between(const Bvh& first, const Bvh& second);
 
+// Pairs of the listed triangles of `first` with the triangles of `second` whose boxes overlap
+// theirs (boxes of the last build or refit), as (a of first, b of second), sorted and each once.
+// With `same_mesh` (`second` is `first`) a triangle is not paired with itself nor, as in
+// find_self_pairs' default, with one it shares a vertex with, and pairs are (min, max). For
+// re-querying the few triangles whose motion changed after the full query. Single-threaded;
+// replaces `pairs`, `scratch` is the per-triangle result.
+void find_pairs_of(const Bvh& first, const std::vector<int>& triangles, const Bvh& second, bool same_mesh,
+                   std::vector<TrianglePair>& pairs, std::vector<int>& scratch);
+
 // Triangles whose boxes overlap `box` (picking, analytic colliders), sorted. Single-threaded,
 // no stack: replaces the contents of `triangles` and allocates only if it must grow.
 void find_triangles_in_box(const Bvh& bvh, const Aabb& box, std::vector<int>& triangles);

@@ -143,6 +143,31 @@ void sort_candidates(CollisionCandidates& candidates) {
       candidates.edge_edge, candidates.sort_keys, candidates.sort_scratch);
 }
 
+namespace {
+
+template <typename T>
+void merge_new(std::vector<T>& all, std::vector<T>& added, std::vector<T>& scratch) {
+  // Set difference in place (both sorted), then the two sorted runs merged through `scratch`.
+  auto in_all = all.begin();
+  auto kept = added.begin();
+  for (auto it = added.begin(); it != added.end(); ++it) {
+    in_all = std::lower_bound(in_all, all.end(), *it);
+    if (in_all == all.end() || !(*in_all == *it)) *kept++ = *it;
+  }
+  added.erase(kept, added.end());
+  if (added.empty()) return;
+  scratch.resize(all.size() + added.size());
+  std::merge(all.begin(), all.end(), added.begin(), added.end(), scratch.begin());
+  all.swap(scratch);
+}
+
+}  // namespace
+
+void merge_new_candidates(CollisionCandidates& all, CollisionCandidates& added) {
+  merge_new(all.vertex_face, added.vertex_face, all.vertex_face_scratch);
+  merge_new(all.edge_edge, added.edge_edge, all.edge_edge_scratch);
+}
+
 void add_self_candidates(const std::vector<TrianglePair>& pairs, const CandidateMesh& mesh,
                          CollisionCandidates& candidates) {
   append_self_candidates(pairs, mesh, candidates);

@@ -53,6 +53,8 @@ struct CollisionCandidates {
   std::vector<VertexFacePair> vertex_face;
   std::vector<EdgeEdgePair> edge_edge;
   std::vector<std::uint64_t> sort_keys, sort_scratch;  // sort_candidates' buffers, kept to grow once
+  std::vector<VertexFacePair> vertex_face_scratch;     // merge_new_candidates' buffers
+  std::vector<EdgeEdgePair> edge_edge_scratch;
 
   void clear() {
     vertex_face.clear();
@@ -79,5 +81,9 @@ void append_candidates_between(const std::vector<TrianglePair>& pairs, const Can
                                const CandidateMesh& second, CollisionCandidates& candidates);
 // Sorts both lists (by their first index, then their second) and removes duplicates.
 void sort_candidates(CollisionCandidates& candidates);
+
+// Both sorted and duplicate-free: drops from `added` the pairs `all` already holds, then merges
+// what is left into `all`, which stays sorted and duplicate-free; `added` keeps the new pairs.
+void merge_new_candidates(CollisionCandidates& all, CollisionCandidates& added);
 
 }  // namespace weft

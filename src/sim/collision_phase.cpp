@@ -184,6 +184,10 @@ void CollisionPhase::query_candidates(CollisionCandidates& candidates) {
     }
   }
   sort_candidates(candidates);
+  drop_immovable_pairs(candidates);
+}
+
+void CollisionPhase::drop_immovable_pairs(CollisionCandidates& candidates) const {
   const auto immovable = [&](int v) { return inverse_mass_[v] == 0.0; };
   auto& vertex_faces = candidates.vertex_face;
   vertex_faces.erase(std::remove_if(vertex_faces.begin(), vertex_faces.end(),
@@ -432,55 +436,114 @@ void CollisionPhase::apply_impact_zones() {
   stats_.response_ms += milliseconds_since(start);
 }
 
-// Phase: the corrected motion may have left the swept boxes the candidates came from, or undone
-// what let self-collision culling skip a region; if so, query again and test the new
-// candidates. Returns true when they collide.
+// Phase: the corrected motion may have left the boxes the candidates were found for, or undone
+// what let self-collision culling skip a region; if so, the candidates are brought up to date
+// and the new ones tested. Returns true when they collide.
+//
+// The candidates hold every primitive pair whose vertex boxes (vertex_lower_/upper_, the swept
+// boxes of the step's first motion) are within the thickness t of each other (triangle boxes
+// inflated by t/2 each, then the primitive filter's gap t). A pair that touches (within the
+// continuous tests' eta) over a motion keeping every vertex within s = (t - eta)/2 of its box
+// had boxes within eta + 2s = t: it is a candidate. A vertex that went farther ("escaped") has
+// its box grown to hold its new motion, and the triangles around it are queried again against
+// every mesh with the grown boxes, which finds every pair those boxes bring within t; pairs
+// of two unchanged boxes were candidates already. Only the new pairs need testing when the last
+// detection over the old ones was clean.
 bool CollisionPhase::verify_motion() {
   auto start = Clock::now();
-  // A triangle whose corrected end positions stay inside its swept box (which holds its start
-  // positions) still sweeps only through that box, so no pair was missed.
-  bool inside = true;
-  for (int c = 0; c < num_cloths_ && inside; ++c) {
-    const MeshSlot& slot = meshes_[c];
-    for (int t = 0; t < slot.global_triangles.cols() && inside; ++t) {
-      const Aabb& box = slot.bvh.triangle_boxes()[t];
-      for (int k = 0; k < 3; ++k) {
-        const Vec3 p = x_end_.col(slot.global_triangles(k, t));
-        if ((p.array() < box.lower.array()).any() || (p.array() > box.upper.array()).any()) {
-          inside = false;
-          break;
-        }
-      }
+  const double slack = std::max(0.0, 0.5 * (max_thickness_ - settings.ccd_tolerance));
+  escaped_vertices_.clear();
+  for (int v = 0; v < x_end_.cols(); ++v) {
+    const auto p = x_end_.col(v).array();
+    if ((p < vertex_lower_.col(v).array() - slack).any() || (p > vertex_upper_.col(v).array() + slack).any()) {
+      escaped_vertices_.push_back(v);
     }
   }
   // Self-collision culling was decided on the uncorrected motion; a region it skipped must
-  // still pass its tests (normal cone, unfolded contour) on the corrected one.
-  for (int c = 0; c < num_cloths_ && inside; ++c) {
+  // still pass its tests (normal cone, unfolded contour) on the corrected one, else query anew.
+  bool culling_holds = true;
+  for (int c = 0; c < num_cloths_ && culling_holds; ++c) {
     MeshSlot& slot = meshes_[c];
     if (!materials_[c].self_collision || !settings.self_culling.enabled) continue;
     culled_before_ = slot.culling.culled();
     slot.culling.update(slot.bvh, x_start_, x_end_, max_thickness_, settings.self_culling);
     const std::vector<char>& culled_now = slot.culling.culled();
-    for (size_t k = 0; k < culled_before_.size() && inside; ++k) inside = !culled_before_[k] || culled_now[k];
+    for (size_t k = 0; k < culled_before_.size() && culling_holds; ++k) {
+      culling_holds = !culled_before_[k] || culled_now[k];
+    }
   }
-  if (inside) {
+  if (escaped_vertices_.empty() && culling_holds) {
     stats_.broad_ms += milliseconds_since(start);
     return false;
   }
-  refit_bounding_volumes();
-  query_candidates(verify_candidates_);
+  const bool test_all = !culling_holds || !stats_.clean;
+  if (!culling_holds) {
+    refit_bounding_volumes();
+    query_candidates(verify_candidates_);
+    std::swap(candidates_, verify_candidates_);
+  } else {
+    query_escaped_candidates(verify_candidates_);
+    merge_new_candidates(candidates_, verify_candidates_);
+  }
   stats_.broad_ms += milliseconds_since(start);
 
   start = Clock::now();
+  const CollisionCandidates& tested = test_all ? candidates_ : verify_candidates_;
   CollisionStep step = make_step();
-  detect_collisions(step, verify_candidates_.vertex_face, verify_candidates_.edge_edge, ccd_settings(),
-                    collisions_);
+  detect_collisions(step, tested.vertex_face, tested.edge_edge, ccd_settings(), collisions_);
   stats_.narrow_ms += milliseconds_since(start);
-  std::swap(candidates_, verify_candidates_);
   // Found collisions make the step unclean until a next round resolves them; when the rounds
   // run out first, the step is reported unclean instead of silently keeping them.
   if (!collisions_.empty()) stats_.clean = false;
   return !collisions_.empty();
+}
+
+// verify_motion's update: grows the boxes of escaped_vertices_ to hold their motion, refits the
+// hierarchies over the boxes and writes the candidates of the triangles around those vertices
+// against every mesh (self pairs within culled regions included), sorted.
+void CollisionPhase::query_escaped_candidates(CollisionCandidates& candidates) {
+  candidates.clear();
+  escaped_flags_.assign(x_end_.cols(), 0);
+  for (const int v : escaped_vertices_) {
+    vertex_lower_.col(v) = vertex_lower_.col(v).cwiseMin(x_end_.col(v));
+    vertex_upper_.col(v) = vertex_upper_.col(v).cwiseMax(x_end_.col(v));
+    escaped_flags_[v] = 1;
+  }
+  // A box over the corners' boxes is the box over both corner sets.
+  for (MeshSlot& slot : meshes_) {
+    if (slot.moves) slot.bvh.refit(vertex_lower_, vertex_upper_, box_margin());
+  }
+  const SweptVertexBoxes boxes{vertex_lower_, vertex_upper_, max_thickness_};
+  const auto candidate_mesh = [&](const MeshSlot& slot) {
+    return CandidateMesh{slot.local_triangles, slot.topology, slot.offsets, &boxes};
+  };
+  for (int c = 0; c < num_cloths_; ++c) {
+    const MeshSlot& cloth = meshes_[c];
+    escaped_triangles_.clear();
+    for (int t = 0; t < cloth.global_triangles.cols(); ++t) {
+      const auto corners = cloth.global_triangles.col(t);
+      if (escaped_flags_[corners[0]] || escaped_flags_[corners[1]] || escaped_flags_[corners[2]]) {
+        escaped_triangles_.push_back(t);
+      }
+    }
+    if (escaped_triangles_.empty()) continue;
+    if (materials_[c].self_collision) {
+      find_pairs_of(cloth.bvh, escaped_triangles_, cloth.bvh, true, pairs_, box_triangles_);
+      append_self_candidates(pairs_, candidate_mesh(cloth), candidates);
+    }
+    for (size_t other = 0; other < meshes_.size(); ++other) {
+      if (other == static_cast<size_t>(c)) continue;
+      find_pairs_of(cloth.bvh, escaped_triangles_, meshes_[other].bvh, false, pairs_, box_triangles_);
+      if (other > static_cast<size_t>(c)) {
+        append_candidates_between(pairs_, candidate_mesh(cloth), candidate_mesh(meshes_[other]), candidates);
+      } else {  // the lower mesh comes first, as in query_candidates
+        for (TrianglePair& pair : pairs_) std::swap(pair.a, pair.b);
+        append_candidates_between(pairs_, candidate_mesh(meshes_[other]), candidate_mesh(cloth), candidates);
+      }
+    }
+  }
+  sort_candidates(candidates);
+  drop_immovable_pairs(candidates);
 }
 
 void CollisionPhase::scatter_motion(std::vector<Cloth>& cloths) const {

@@ -160,6 +160,9 @@ class CollisionPhase {
   CollisionStep make_step();
   void refit_bounding_volumes();
   void query_candidates(CollisionCandidates& candidates);
+  void query_escaped_candidates(CollisionCandidates& candidates);
+  // Drops pairs whose four vertices all have infinite mass (nothing can move them).
+  void drop_immovable_pairs(CollisionCandidates& candidates) const;
   int material_group(int mesh_a, int mesh_b) const;
   int vertex_face_group(const VertexFacePair& pair) const;
   int edge_edge_group(const EdgeEdgePair& pair) const;
@@ -182,7 +185,9 @@ class CollisionPhase {
   Positions x_start_;               // (3 x n_vertices)
   Positions x_end_;                 // (3 x n_vertices)
   Positions velocity_;              // (3 x n_vertices)
-  Positions vertex_lower_;          // (3 x n_vertices) corners of each vertex's box swept over the step
+  // (3 x n_vertices) corners of each vertex's box swept over the step, which the candidates were
+  // found for; verify_motion grows the boxes of vertices whose corrected motion left them
+  Positions vertex_lower_;
   Positions vertex_upper_;
   Eigen::VectorXd inverse_mass_;          // (n_vertices)
   Triangles triangles_;                   // (3 x n_triangles)
@@ -196,6 +201,10 @@ class CollisionPhase {
   CollisionCandidates candidates_;
   CollisionCandidates verify_candidates_;
   std::vector<char> culled_before_;  // verify_motion: the culling the candidates were found with
+  std::vector<int> escaped_vertices_;   // verify_motion: vertices whose corrected motion left their box
+  std::vector<char> escaped_flags_;     // per vertex
+  std::vector<int> escaped_triangles_;  // of one cloth, around escaped vertices
+  std::vector<int> box_triangles_;      // find_pairs_of's scratch
   std::vector<std::vector<VertexFacePair>> group_vertex_faces_;
   std::vector<std::vector<EdgeEdgePair>> group_edge_edges_;
   std::vector<char> near_vertex_face_;

@@ -332,6 +332,52 @@ TEST(Bvh, BoxQueryMatchesBruteForce) {
   EXPECT_TRUE(found.empty()) << "an empty box overlaps nothing";
 }
 
+TEST(Bvh, PairsOfListedTrianglesMatchBruteForce) {
+  // Every third triangle of a crumpled grid, against the grid itself (after a refit to moved
+  // positions) and against a second mesh: the brute-force pairs that have a listed triangle.
+  TriangleMesh cloth = crumpled_grid(19, 21);
+  const Positions moved = displaced(cloth.positions, 0.01, 25);
+  TriangleMesh other = crumpled_grid(15, 22);
+  transform_positions(other.positions, rotation_from_euler_degrees(Vec3(20.0, 70.0, 0.0)), 0.8,
+                      Vec3(0.1, 0.1, 0.0));
+  Bvh a, b;
+  a.build(cloth.positions, cloth.triangles, 0.004);
+  a.refit(cloth.positions, moved, 0.004);
+  b.build(other.positions, other.triangles, 0.004);
+  std::vector<int> listed;
+  std::vector<char> is_listed(cloth.num_triangles(), 0);
+  for (int t = 0; t < cloth.num_triangles(); t += 3) {
+    listed.push_back(t);
+    is_listed[t] = 1;
+  }
+  std::vector<TrianglePair> pairs;
+  std::vector<int> scratch;
+
+  find_pairs_of(a, listed, a, /*same_mesh=*/true, pairs, scratch);
+  std::vector<TrianglePair> expected;
+  for (const TrianglePair& pair : brute_force_self(cloth.positions, moved, cloth.triangles, 0.004)) {
+    if (is_listed[pair.a] || is_listed[pair.b]) expected.push_back(pair);
+  }
+  EXPECT_GT(expected.size(), 100u);
+  EXPECT_EQ(pairs, expected);
+
+  // Against the other mesh: the listed triangles' swept boxes against its static ones.
+  find_pairs_of(a, listed, b, /*same_mesh=*/false, pairs, scratch);
+  const std::vector<Aabb> swept = reference_boxes(cloth.positions, moved, cloth.triangles, 0.004);
+  const std::vector<Aabb> fixed = reference_boxes(other.positions, other.positions, other.triangles, 0.004);
+  std::vector<TrianglePair> swept_pairs;
+  for (const int s : listed) {
+    for (int t = 0; t < other.num_triangles(); ++t) {
+      if (boxes_overlap(swept[s], fixed[t])) swept_pairs.push_back({s, t});
+    }
+  }
+  EXPECT_GT(swept_pairs.size(), 20u);
+  EXPECT_EQ(pairs, swept_pairs);
+
+  find_pairs_of(a, {}, a, true, pairs, scratch);
+  EXPECT_TRUE(pairs.empty());
+}
+
 TEST(Bvh, ResultsIdenticalAtOneAndTwoThreads) {
   const int threads_before = omp_get_max_threads();
   const TriangleMesh grid = crumpled_grid(40, 41);

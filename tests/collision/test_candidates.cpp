@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <iterator>
 #include <map>
 #include <random>
 #include <set>
@@ -271,6 +272,43 @@ TEST(Candidates, SortCandidatesOrdersAndDeduplicatesLikeStdSort) {
     EXPECT_TRUE(candidates.vertex_face == vertex_face) << largest;
     EXPECT_TRUE(candidates.edge_edge == edge_edge) << largest;
     EXPECT_LT(edge_edge.size(), 26667u);  // the repeats were there to remove
+  }
+}
+
+TEST(Candidates, MergeNewCandidatesKeepsTheNewPairsAndTheSortedUnion) {
+  std::mt19937 rng(17);
+  std::uniform_int_distribution<int> index(0, 400);
+  for (int round = 0; round < 20; ++round) {
+    CollisionCandidates all, added;
+    for (int k = 0; k < 3000; ++k) {
+      all.vertex_face.push_back({index(rng), index(rng)});
+      all.edge_edge.push_back({index(rng), index(rng)});
+    }
+    for (int k = 0; k < 1000 * (round % 3); ++k) {
+      added.vertex_face.push_back({index(rng), index(rng)});
+      added.edge_edge.push_back({index(rng), index(rng)});
+    }
+    sort_candidates(all);
+    sort_candidates(added);
+    std::vector<VertexFacePair> union_vf, new_vf;
+    std::set_union(all.vertex_face.begin(), all.vertex_face.end(), added.vertex_face.begin(),
+                   added.vertex_face.end(), std::back_inserter(union_vf));
+    std::set_difference(added.vertex_face.begin(), added.vertex_face.end(), all.vertex_face.begin(),
+                        all.vertex_face.end(), std::back_inserter(new_vf));
+    std::vector<EdgeEdgePair> union_ee, new_ee;
+    std::set_union(all.edge_edge.begin(), all.edge_edge.end(), added.edge_edge.begin(), added.edge_edge.end(),
+                   std::back_inserter(union_ee));
+    std::set_difference(added.edge_edge.begin(), added.edge_edge.end(), all.edge_edge.begin(),
+                        all.edge_edge.end(), std::back_inserter(new_ee));
+    if (round % 3 != 0) {
+      EXPECT_FALSE(new_vf.empty());
+      EXPECT_LT(new_vf.size(), added.vertex_face.size()) << "some pairs were there already";
+    }
+    merge_new_candidates(all, added);
+    EXPECT_TRUE(all.vertex_face == union_vf) << round;
+    EXPECT_TRUE(all.edge_edge == union_ee) << round;
+    EXPECT_TRUE(added.vertex_face == new_vf) << round;
+    EXPECT_TRUE(added.edge_edge == new_ee) << round;
   }
 }
 
