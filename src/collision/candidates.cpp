@@ -1,5 +1,7 @@
 #include "collision/candidates.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -76,7 +78,7 @@ bool within_gap(const Box& a, const Box& b, double gap) {
 // the two are one mesh and corners or edge ends they share are skipped.
 template <bool self>
 void append_pair_candidates(int s, int t, const CandidateMesh& first, const CandidateMesh& second,
-                            CollisionCandidates& candidates) {
+                            std::vector<VertexFacePair>& vertex_faces, std::vector<EdgeEdgePair>& edge_edges) {
   const Triangles& triangles_s = first.triangles;
   const Triangles& triangles_t = second.triangles;
   const SweptVertexBoxes* boxes = first.boxes;
@@ -91,12 +93,12 @@ void append_pair_candidates(int s, int t, const CandidateMesh& first, const Cand
     const int v = triangles_s(k, s);
     if ((!self || !has_corner(triangles_t, t, v)) &&
         within_gap(box_of<1>(boxes, {vs + v}), box_t, gap)) {
-      candidates.vertex_face.push_back({vs + v, second.offsets.triangle + t});
+      vertex_faces.push_back({vs + v, second.offsets.triangle + t});
     }
     const int w = triangles_t(k, t);
     if ((!self || !has_corner(triangles_s, s, w)) &&
         within_gap(box_of<1>(boxes, {vt + w}), box_s, gap)) {
-      candidates.vertex_face.push_back({vt + w, first.offsets.triangle + s});
+      vertex_faces.push_back({vt + w, first.offsets.triangle + s});
     }
   }
 
@@ -112,8 +114,52 @@ void append_pair_candidates(int s, int t, const CandidateMesh& first, const Cand
       if (!within_gap(box_a, box_of<2>(boxes, {vt + b0, vt + b1}), gap)) continue;
       const int a = first.offsets.edge + edge_s;
       const int b = second.offsets.edge + edge_t;
-      candidates.edge_edge.push_back({std::min(a, b), std::max(a, b)});
+      edge_edges.push_back({std::min(a, b), std::max(a, b)});
     }
+  }
+}
+
+// The candidates of every pair, appended in pair order. Large lists are cut into one contiguous
+// chunk a thread, each written to its own buffer, and the buffers appended in chunk order: the
+// same lists on any number of threads.
+template <bool self>
+void append_candidates(const std::vector<TrianglePair>& pairs, const CandidateMesh& first,
+                       const CandidateMesh& second, CollisionCandidates& candidates) {
+  constexpr int pairs_per_thread = 1024;
+  const int num_pairs = static_cast<int>(pairs.size());
+  const int threads = std::min(std::max(1, omp_get_max_threads()), std::max(1, num_pairs / pairs_per_thread));
+  if (threads == 1) {
+    for (const TrianglePair& pair : pairs) {
+      append_pair_candidates<self>(pair.a, pair.b, first, second, candidates.vertex_face, candidates.edge_edge);
+    }
+    return;
+  }
+  auto& thread_vertex_faces = candidates.thread_vertex_faces;
+  auto& thread_edge_edges = candidates.thread_edge_edges;
+  if (static_cast<int>(thread_vertex_faces.size()) < threads) {
+    thread_vertex_faces.resize(threads);
+    thread_edge_edges.resize(threads);
+  }
+  for (int k = 0; k < threads; ++k) {
+    thread_vertex_faces[k].clear();
+    thread_edge_edges[k].clear();
+  }
+#pragma omp parallel num_threads(threads)
+  {
+    const int count = omp_get_num_threads();
+    for (int k = omp_get_thread_num(); k < threads; k += count) {
+      const int begin = static_cast<int>(static_cast<long long>(num_pairs) * k / threads);
+      const int end = static_cast<int>(static_cast<long long>(num_pairs) * (k + 1) / threads);
+      for (int i = begin; i < end; ++i) {
+        append_pair_candidates<self>(pairs[i].a, pairs[i].b, first, second, thread_vertex_faces[k],
+                                     thread_edge_edges[k]);
+      }
+    }
+  }
+  for (int k = 0; k < threads; ++k) {
+    candidates.vertex_face.insert(candidates.vertex_face.end(), thread_vertex_faces[k].begin(),
+                                  thread_vertex_faces[k].end());
+    candidates.edge_edge.insert(candidates.edge_edge.end(), thread_edge_edges[k].begin(), thread_edge_edges[k].end());
   }
 }
 
@@ -126,14 +172,12 @@ MeshIndexOffsets next_offsets(const MeshIndexOffsets& offsets, int num_vertices,
 
 void append_self_candidates(const std::vector<TrianglePair>& pairs, const CandidateMesh& mesh,
                             CollisionCandidates& candidates) {
-  for (const TrianglePair& pair : pairs) append_pair_candidates<true>(pair.a, pair.b, mesh, mesh, candidates);
+  append_candidates<true>(pairs, mesh, mesh, candidates);
 }
 
 void append_candidates_between(const std::vector<TrianglePair>& pairs, const CandidateMesh& first,
                                const CandidateMesh& second, CollisionCandidates& candidates) {
-  for (const TrianglePair& pair : pairs) {
-    append_pair_candidates<false>(pair.a, pair.b, first, second, candidates);
-  }
+  append_candidates<false>(pairs, first, second, candidates);
 }
 
 void sort_candidates(CollisionCandidates& candidates) {

@@ -55,6 +55,8 @@ struct CollisionCandidates {
   std::vector<std::uint64_t> sort_keys, sort_scratch;  // sort_candidates' buffers, kept to grow once
   std::vector<VertexFacePair> vertex_face_scratch;     // merge_new_candidates' buffers
   std::vector<EdgeEdgePair> edge_edge_scratch;
+  std::vector<std::vector<VertexFacePair>> thread_vertex_faces;  // the appends' per-thread buffers
+  std::vector<std::vector<EdgeEdgePair>> thread_edge_edges;
 
   void clear() {
     vertex_face.clear();

@@ -4,6 +4,7 @@
 #include "collision/candidates.hpp"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <iterator>
@@ -200,6 +201,37 @@ TEST(Candidates, PairsFromTheBvhOfACrumpledGrid) {
   // Pairs share no vertex, so each gives all 6 vertex-face pairs before deduplication.
   EXPECT_LE(candidates.vertex_face.size(), 6 * pairs.size());
   EXPECT_LT(candidates.edge_edge.size(), 9 * pairs.size()) << "edges shared by neighbours are deduplicated";
+}
+
+TEST(Candidates, AppendsAreTheSameOnAnyThreadCount) {
+  // Enough pairs for the appends to split them over threads: the unsorted lists must come out
+  // in the same order on 1, 2 and 3 threads, and sorted they must match the reference.
+  TriangleMesh grid = make_grid(60, 60, 1.0, 1.0, GridTriangulation::regular);
+  for (int v = 0; v < grid.num_vertices(); ++v) grid.positions(2, v) = 0.1 * std::sin(20.0 * grid.positions(0, v));
+  const MeshTopology topology = build_topology(grid.triangles, grid.num_vertices());
+  Bvh bvh;
+  bvh.build(grid.positions, grid.triangles, 0.03);
+  const std::vector<TrianglePair> pairs = find_self_pairs(bvh);
+  ASSERT_GT(pairs.size(), 5000u);
+  const int threads_before = omp_get_max_threads();
+  std::vector<CollisionCandidates> results;
+  for (const int threads : {1, 2, 3}) {
+    omp_set_num_threads(threads);
+    CollisionCandidates candidates;
+    append_self_candidates(pairs, {grid.triangles, topology, {}}, candidates);
+    append_self_candidates(pairs, {grid.triangles, topology, {}}, candidates);  // buffers reused
+    results.push_back(candidates);
+  }
+  omp_set_num_threads(threads_before);
+  for (int k = 1; k < 3; ++k) {
+    EXPECT_TRUE(results[k].vertex_face == results[0].vertex_face) << k + 1 << " threads";
+    EXPECT_TRUE(results[k].edge_edge == results[0].edge_edge) << k + 1 << " threads";
+  }
+  sort_candidates(results[2]);
+  ReferenceCandidates reference;
+  const ReferenceMesh mesh = reference_mesh(grid.triangles, topology, {});
+  add_reference(pairs, mesh, mesh, true, reference);
+  expect_equal(results[2], reference);
 }
 
 TEST(Candidates, BetweenMeshesUseCombinedIndices) {
