@@ -417,21 +417,12 @@ void find_triangles_in_box(const Bvh& bvh, const Aabb& box, std::vector<int>& tr
 void find_pairs_of(const Bvh& first, const std::vector<int>& triangles, const Bvh& second, bool same_mesh,
                    std::vector<TrianglePair>& pairs, std::vector<int>& scratch) {
   pairs.clear();
-  const Triangles& corners = first.triangles();
-  const auto share_vertex = [&](int a, int b) {
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) {
-        if (corners(i, a) == corners(j, b)) return true;
-      }
-    }
-    return false;
-  };
   for (const int a : triangles) {
     find_triangles_in_box(second, first.triangle_boxes()[a], scratch);
     for (const int b : scratch) {
       if (!same_mesh) {
         pairs.push_back({a, b});
-      } else if (a != b && !share_vertex(a, b)) {
+      } else if (a != b && !share_vertex(first.triangles(), a, b)) {
         pairs.push_back({std::min(a, b), std::max(a, b)});
       }
     }

@@ -509,9 +509,14 @@ void CollisionPhase::query_escaped_candidates(CollisionCandidates& candidates) {
     vertex_upper_.col(v) = vertex_upper_.col(v).cwiseMax(x_end_.col(v));
     escaped_flags_[v] = 1;
   }
-  // A box over the corners' boxes is the box over both corner sets.
-  for (MeshSlot& slot : meshes_) {
-    if (slot.moves) slot.bvh.refit(vertex_lower_, vertex_upper_, box_margin());
+  // A box over the corners' boxes is the box over both corner sets. Only cloths move in the
+  // response, and a cloth without escaped vertices keeps the boxes of its last refit.
+  for (int c = 0; c < num_cloths_; ++c) {
+    MeshSlot& slot = meshes_[c];
+    const auto first = escaped_flags_.begin() + slot.offsets.vertex;
+    if (std::find(first, first + slot.num_vertices, 1) != first + slot.num_vertices) {
+      slot.bvh.refit(vertex_lower_, vertex_upper_, box_margin());
+    }
   }
   const SweptVertexBoxes boxes{vertex_lower_, vertex_upper_, max_thickness_};
   const auto candidate_mesh = [&](const MeshSlot& slot) {
