@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/topology.hpp"
+
 namespace weft {
 
 double Aabb::surface_area() const {
@@ -33,15 +35,6 @@ void check_positions(const Positions& x_start, const Positions& x_end, double ma
   if (!(margin >= 0.0)) {
     throw std::invalid_argument(std::string(where) + ": margin must be >= 0, got " + std::to_string(margin));
   }
-}
-
-bool share_vertex(const Triangles& triangles, int s, int t) {
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      if (triangles(i, s) == triangles(j, t)) return true;
-    }
-  }
-  return false;
 }
 
 // Splits the node pair `task` one level into `out`. Returns false when it cannot be split

@@ -74,10 +74,46 @@ bool within_gap(const Box& a, const Box& b, double gap) {
   return (a.lower.array() <= b.upper.array() + gap).all() && (b.lower.array() <= a.upper.array() + gap).all();
 }
 
-// Appends the candidates of triangle s of `first` against triangle t of `second`. With `self`
-// the two are one mesh and corners or edge ends they share are skipped.
+// Whether triangle s, one of those around vertex v of `mesh`, is v's designated triangle against
+// triangle t (TrianglePairList::complete): the first around v that shares no vertex with t when
+// `self` (t of the same mesh), else simply the first.
 template <bool self>
-void append_pair_candidates(int s, int t, const CandidateMesh& first, const CandidateMesh& second,
+bool designates_vertex(const CandidateMesh& mesh, int v, int s, int t) {
+  const std::vector<int>& around = mesh.topology.vertex_triangles;
+  const int begin = mesh.topology.vertex_triangle_start[v];
+  if (!self) return around[begin] == s;
+  const int end = mesh.topology.vertex_triangle_start[v + 1];
+  for (int k = begin; k < end; ++k) {
+    if (!share_vertex(mesh.triangles, around[k], t)) return around[k] == s;
+  }
+  return false;
+}
+
+// Whether (s, t) is the designated pair of edge e (a side of s) against edge f (a side of t):
+// their first triangles between two meshes; within one, the least (min, max) pair of a triangle
+// at e and one at f that share no vertex.
+template <bool self>
+bool designates_edges(const CandidateMesh& first, const CandidateMesh& second, int e, int f, int s, int t) {
+  const Eigen::Matrix2Xi& at_e = first.topology.edge_triangles;
+  const Eigen::Matrix2Xi& at_f = second.topology.edge_triangles;
+  if (!self) return at_e(0, e) == s && at_f(0, f) == t;
+  constexpr int none = std::numeric_limits<int>::max();
+  TrianglePair least{none, none};
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < 2; ++j) {
+      const int a = at_e(i, e), b = at_f(j, f);
+      if (a < 0 || b < 0 || a == b || share_vertex(first.triangles, a, b)) continue;
+      least = std::min(least, TrianglePair{std::min(a, b), std::max(a, b)});
+    }
+  }
+  return least == TrianglePair{std::min(s, t), std::max(s, t)};
+}
+
+// Appends the candidates of triangle s of `first` against triangle t of `second`. With `self`
+// the two are one mesh and corners or edge ends they share are skipped. With `designated` only
+// the primitive pairs whose designated triangle pair is (s, t) are written.
+template <bool self>
+void append_pair_candidates(int s, int t, const CandidateMesh& first, const CandidateMesh& second, bool designated,
                             std::vector<VertexFacePair>& vertex_faces, std::vector<EdgeEdgePair>& edge_edges) {
   const Triangles& triangles_s = first.triangles;
   const Triangles& triangles_t = second.triangles;
@@ -91,12 +127,12 @@ void append_pair_candidates(int s, int t, const CandidateMesh& first, const Cand
   // Vertex-face: each corner of one triangle against the other triangle.
   for (int k = 0; k < 3; ++k) {
     const int v = triangles_s(k, s);
-    if ((!self || !has_corner(triangles_t, t, v)) &&
+    if ((!self || !has_corner(triangles_t, t, v)) && (!designated || designates_vertex<self>(first, v, s, t)) &&
         within_gap(box_of<1>(boxes, {vs + v}), box_t, gap)) {
       vertex_faces.push_back({vs + v, second.offsets.triangle + t});
     }
     const int w = triangles_t(k, t);
-    if ((!self || !has_corner(triangles_s, s, w)) &&
+    if ((!self || !has_corner(triangles_s, s, w)) && (!designated || designates_vertex<self>(second, w, t, s)) &&
         within_gap(box_of<1>(boxes, {vt + w}), box_s, gap)) {
       vertex_faces.push_back({vt + w, first.offsets.triangle + s});
     }
@@ -105,12 +141,14 @@ void append_pair_candidates(int s, int t, const CandidateMesh& first, const Cand
   // Edge-edge: each side of one against each side of the other, unless they share an end.
   for (int i = 0; i < 3; ++i) {
     const int edge_s = first.topology.triangle_edges(i, s);
+    if (!self && designated && first.topology.edge_triangles(0, edge_s) != s) continue;
     const int a0 = first.topology.edges(0, edge_s), a1 = first.topology.edges(1, edge_s);
     const Box box_a = box_of<2>(boxes, {vs + a0, vs + a1});
     for (int j = 0; j < 3; ++j) {
       const int edge_t = second.topology.triangle_edges(j, t);
       const int b0 = second.topology.edges(0, edge_t), b1 = second.topology.edges(1, edge_t);
       if (self && (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1)) continue;
+      if (designated && !designates_edges<self>(first, second, edge_s, edge_t, s, t)) continue;
       if (!within_gap(box_a, box_of<2>(boxes, {vt + b0, vt + b1}), gap)) continue;
       const int a = first.offsets.edge + edge_s;
       const int b = second.offsets.edge + edge_t;
@@ -124,13 +162,16 @@ void append_pair_candidates(int s, int t, const CandidateMesh& first, const Cand
 // same lists on any number of threads.
 template <bool self>
 void append_candidates(const std::vector<TrianglePair>& pairs, const CandidateMesh& first,
-                       const CandidateMesh& second, CollisionCandidates& candidates) {
+                       const CandidateMesh& second, TrianglePairList list, CollisionCandidates& candidates) {
+  const bool designated = list == TrianglePairList::complete && first.boxes &&
+                          (!self || first.topology.non_manifold_edges.empty());
   constexpr int pairs_per_thread = 1024;
   const int num_pairs = static_cast<int>(pairs.size());
   const int threads = std::min(std::max(1, omp_get_max_threads()), std::max(1, num_pairs / pairs_per_thread));
   if (threads == 1) {
     for (const TrianglePair& pair : pairs) {
-      append_pair_candidates<self>(pair.a, pair.b, first, second, candidates.vertex_face, candidates.edge_edge);
+      append_pair_candidates<self>(pair.a, pair.b, first, second, designated, candidates.vertex_face,
+                                   candidates.edge_edge);
     }
     return;
   }
@@ -151,7 +192,7 @@ void append_candidates(const std::vector<TrianglePair>& pairs, const CandidateMe
       const int begin = static_cast<int>(static_cast<long long>(num_pairs) * k / threads);
       const int end = static_cast<int>(static_cast<long long>(num_pairs) * (k + 1) / threads);
       for (int i = begin; i < end; ++i) {
-        append_pair_candidates<self>(pairs[i].a, pairs[i].b, first, second, thread_vertex_faces[k],
+        append_pair_candidates<self>(pairs[i].a, pairs[i].b, first, second, designated, thread_vertex_faces[k],
                                      thread_edge_edges[k]);
       }
     }
@@ -171,13 +212,13 @@ MeshIndexOffsets next_offsets(const MeshIndexOffsets& offsets, int num_vertices,
 }
 
 void append_self_candidates(const std::vector<TrianglePair>& pairs, const CandidateMesh& mesh,
-                            CollisionCandidates& candidates) {
-  append_candidates<true>(pairs, mesh, mesh, candidates);
+                            CollisionCandidates& candidates, TrianglePairList list) {
+  append_candidates<true>(pairs, mesh, mesh, list, candidates);
 }
 
 void append_candidates_between(const std::vector<TrianglePair>& pairs, const CandidateMesh& first,
-                               const CandidateMesh& second, CollisionCandidates& candidates) {
-  append_candidates<false>(pairs, first, second, candidates);
+                               const CandidateMesh& second, CollisionCandidates& candidates, TrianglePairList list) {
+  append_candidates<false>(pairs, first, second, list, candidates);
 }
 
 void sort_candidates(CollisionCandidates& candidates) {
@@ -213,14 +254,15 @@ void merge_new_candidates(CollisionCandidates& all, CollisionCandidates& added) 
 }
 
 void add_self_candidates(const std::vector<TrianglePair>& pairs, const CandidateMesh& mesh,
-                         CollisionCandidates& candidates) {
-  append_self_candidates(pairs, mesh, candidates);
+                         CollisionCandidates& candidates, TrianglePairList list) {
+  append_self_candidates(pairs, mesh, candidates, list);
   sort_candidates(candidates);
 }
 
 void add_candidates_between(const std::vector<TrianglePair>& pairs, const CandidateMesh& first,
-                            const CandidateMesh& second, CollisionCandidates& candidates) {
-  append_candidates_between(pairs, first, second, candidates);
+                            const CandidateMesh& second, CollisionCandidates& candidates,
+                            TrianglePairList list) {
+  append_candidates_between(pairs, first, second, candidates, list);
   sort_candidates(candidates);
 }
 

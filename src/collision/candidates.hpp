@@ -64,23 +64,43 @@ struct CollisionCandidates {
   }
 };
 
+// What a list of triangle pairs handed to the candidate stage holds, which decides which of its
+// pairs write each primitive pair.
+//  - `any`: any pairs. Every triangle pair writes every primitive pair it carries: a vertex-face
+//    pair once for each triangle around the vertex that meets the face (up to ~6 times), an
+//    edge-edge pair up to 4 times; sort_candidates() removes the repeats.
+//  - `complete`: the pairs hold the designated triangle pair of every primitive pair whose boxes
+//    pass the filter (`mesh.boxes`, required), and only that pair writes it, so each is written
+//    once. The designated pair of vertex v against triangle t is (the first triangle around v, in
+//    index order, that shares no vertex with t — between two meshes simply the first —, t); of
+//    edge e against edge f, (the first triangle at e, the first at f) between two meshes, and
+//    within one the least (min, max) pair of a triangle at e and one at f that share no vertex.
+//    A triangle's swept box holds its corners' boxes, so a query over triangle boxes inflated by
+//    gap/2 (find_self_pairs' default, no culling; find_pairs_between) finds the designated pair
+//    of every primitive pair within the gap; so does find_pairs_of for every primitive pair with
+//    a vertex of a listed triangle's. Self candidates of a mesh with non-manifold edges are
+//    written as with `any` (its topology keeps only two triangles an edge).
+enum class TrianglePairList { any, complete };
+
 // Adds the candidates of triangle pairs within one mesh (from find_self_pairs) to `candidates`,
 // which stays sorted and duplicate-free: for each pair, every vertex of one triangle that is not
 // a corner of the other against that other, and every edge of one against every edge of the
 // other that shares no vertex with it. Allocates only when `candidates` must grow.
 void add_self_candidates(const std::vector<TrianglePair>& pairs, const CandidateMesh& mesh,
-                         CollisionCandidates& candidates);
+                         CollisionCandidates& candidates, TrianglePairList list = TrianglePairList::any);
 
 // The same for triangle pairs between two different meshes (from find_pairs_between, a in
 // `first`, b in `second`), where no vertex is shared.
 void add_candidates_between(const std::vector<TrianglePair>& pairs, const CandidateMesh& first,
-                            const CandidateMesh& second, CollisionCandidates& candidates);
+                            const CandidateMesh& second, CollisionCandidates& candidates,
+                            TrianglePairList list = TrianglePairList::any);
 
 // The same two without the final sort: many meshes append, then sort_candidates() once.
 void append_self_candidates(const std::vector<TrianglePair>& pairs, const CandidateMesh& mesh,
-                            CollisionCandidates& candidates);
+                            CollisionCandidates& candidates, TrianglePairList list = TrianglePairList::any);
 void append_candidates_between(const std::vector<TrianglePair>& pairs, const CandidateMesh& first,
-                               const CandidateMesh& second, CollisionCandidates& candidates);
+                               const CandidateMesh& second, CollisionCandidates& candidates,
+                               TrianglePairList list = TrianglePairList::any);
 // Sorts both lists (by their first index, then their second) and removes duplicates.
 void sort_candidates(CollisionCandidates& candidates);
 

@@ -16,10 +16,24 @@ struct MeshTopology {
   Eigen::VectorXi hinge_edges;      // edge index of each hinge (n_hinges)
   std::vector<int> boundary_edges;  // edges with exactly one triangle
   std::vector<int> non_manifold_edges;  // edges with three or more triangles (no hinge built)
+  // Triangles around each vertex, in increasing index: those of vertex v are
+  // vertex_triangles[vertex_triangle_start[v] .. vertex_triangle_start[v + 1]).
+  std::vector<int> vertex_triangle_start;  // (n_vertices + 1)
+  std::vector<int> vertex_triangles;       // (3 n_triangles)
 
   int num_edges() const { return static_cast<int>(edges.cols()); }
   int num_hinges() const { return static_cast<int>(hinges.cols()); }
 };
+
+// Whether triangles s and t (columns of `triangles`) have a corner in common.
+inline bool share_vertex(const Triangles& triangles, int s, int t) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (triangles(i, s) == triangles(j, t)) return true;
+    }
+  }
+  return false;
+}
 
 // Builds the topology; throws std::invalid_argument if an index is outside [0, num_vertices)
 // or a triangle repeats a vertex.

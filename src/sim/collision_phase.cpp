@@ -176,11 +176,12 @@ void CollisionPhase::query_candidates(CollisionCandidates& candidates) {
     if (materials_[c].self_collision) {
       cloth.culling.update(cloth.bvh, x_start_, x_end_, max_thickness_, settings.self_culling);
       find_self_pairs(cloth.bvh, buffers_, pairs_, SharedVertexPairs::skip, &cloth.culling.culled());
-      append_self_candidates(pairs_, candidate_mesh(cloth), candidates);
+      append_self_candidates(pairs_, candidate_mesh(cloth), candidates, self_pair_list());
     }
     for (size_t other = c + 1; other < meshes_.size(); ++other) {
       find_pairs_between(cloth.bvh, meshes_[other].bvh, buffers_, pairs_);
-      append_candidates_between(pairs_, candidate_mesh(cloth), candidate_mesh(meshes_[other]), candidates);
+      append_candidates_between(pairs_, candidate_mesh(cloth), candidate_mesh(meshes_[other]), candidates,
+                                TrianglePairList::complete);
     }
   }
   sort_candidates(candidates);
@@ -534,16 +535,18 @@ void CollisionPhase::query_escaped_candidates(CollisionCandidates& candidates) {
     if (escaped_triangles_.empty()) continue;
     if (materials_[c].self_collision) {
       find_pairs_of(cloth.bvh, escaped_triangles_, cloth.bvh, true, pairs_, box_triangles_);
-      append_self_candidates(pairs_, candidate_mesh(cloth), candidates);
+      append_self_candidates(pairs_, candidate_mesh(cloth), candidates, self_pair_list());
     }
     for (size_t other = 0; other < meshes_.size(); ++other) {
       if (other == static_cast<size_t>(c)) continue;
       find_pairs_of(cloth.bvh, escaped_triangles_, meshes_[other].bvh, false, pairs_, box_triangles_);
       if (other > static_cast<size_t>(c)) {
-        append_candidates_between(pairs_, candidate_mesh(cloth), candidate_mesh(meshes_[other]), candidates);
+        append_candidates_between(pairs_, candidate_mesh(cloth), candidate_mesh(meshes_[other]), candidates,
+                                  TrianglePairList::complete);
       } else {  // the lower mesh comes first, as in query_candidates
         for (TrianglePair& pair : pairs_) std::swap(pair.a, pair.b);
-        append_candidates_between(pairs_, candidate_mesh(meshes_[other]), candidate_mesh(cloth), candidates);
+        append_candidates_between(pairs_, candidate_mesh(meshes_[other]), candidate_mesh(cloth), candidates,
+                                  TrianglePairList::complete);
       }
     }
   }

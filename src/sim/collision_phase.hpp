@@ -171,6 +171,12 @@ class CollisionPhase {
   ResponseSettings response_settings(int group) const;
   ResponseSettings ccd_settings() const;
   double box_margin() const { return 0.5 * max_thickness_; }
+  // What a self query's triangle pairs hold: every overlapping pair without self-collision
+  // culling; with it, the culled regions' pairs are missing (full query) or present (re-query),
+  // so each primitive pair is written from every pair that carries it.
+  TrianglePairList self_pair_list() const {
+    return settings.self_culling.enabled ? TrianglePairList::any : TrianglePairList::complete;
+  }
   void label_records(size_t first);
 
   std::vector<MeshSlot> meshes_;            // cloths first, then colliders

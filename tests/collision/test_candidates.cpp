@@ -346,3 +346,181 @@ TEST(Candidates, MergeNewCandidatesKeepsTheNewPairsAndTheSortedUnion) {
 
 }  // namespace
 }  // namespace weft
+
+namespace weft {
+namespace {
+
+// A crumpled grid moving over a step, its vertices at `offset` in the combined index space.
+struct SweptGrid {
+  TriangleMesh mesh;
+  Positions x_start, x_end;
+  MeshTopology topology;
+  Bvh bvh;
+};
+
+SweptGrid swept_grid(int n, unsigned seed, const Vec3& shift, double gap) {
+  SweptGrid grid;
+  grid.mesh = make_grid(n, n, 1.0, 1.0, GridTriangulation::alternating);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> noise(-0.03, 0.03);
+  grid.x_start = grid.mesh.positions;
+  for (int v = 0; v < grid.mesh.num_vertices(); ++v) {
+    grid.x_start(2, v) = 0.15 * std::sin(9.0 * grid.x_start(0, v)) + noise(rng);
+    grid.x_start.col(v) += shift;
+  }
+  grid.x_end = grid.x_start;
+  for (int v = 0; v < grid.mesh.num_vertices(); ++v) grid.x_end.col(v) += Vec3(noise(rng), noise(rng), noise(rng));
+  grid.topology = build_topology(grid.mesh.triangles, grid.mesh.num_vertices());
+  grid.bvh.build(grid.x_start, grid.x_end, grid.mesh.triangles, 0.5 * gap);  // as the collision phase
+  return grid;
+}
+
+struct TwoSweptGrids {
+  static constexpr double gap = 0.02;
+  SweptGrid a = swept_grid(24, 3, Vec3::Zero(), gap);
+  SweptGrid b = swept_grid(16, 4, Vec3(0.2, 0.3, 0.05), gap);
+  Positions lower, upper;  // combined vertex boxes: a's vertices, then b's
+  MeshIndexOffsets offsets_b;
+
+  TwoSweptGrids() {
+    const int na = a.mesh.num_vertices(), nb = b.mesh.num_vertices();
+    lower.resize(3, na + nb);
+    upper.resize(3, na + nb);
+    lower << a.x_start.cwiseMin(a.x_end), b.x_start.cwiseMin(b.x_end);
+    upper << a.x_start.cwiseMax(a.x_end), b.x_start.cwiseMax(b.x_end);
+    offsets_b = next_offsets({}, na, a.mesh.num_triangles(), a.topology.num_edges());
+  }
+};
+
+template <typename T>
+std::vector<T> sorted_copy(std::vector<T> items) {
+  std::sort(items.begin(), items.end());
+  return items;
+}
+
+template <typename T>
+bool has_repeats(const std::vector<T>& items) {
+  const std::vector<T> sorted = sorted_copy(items);
+  return std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
+}
+
+TEST(Candidates, CompleteListsWriteEachPrimitivePairOnceAndTheSameSet) {
+  const TwoSweptGrids grids;
+  const SweptVertexBoxes boxes{grids.lower, grids.upper, grids.gap};
+  const CandidateMesh mesh_a{grids.a.mesh.triangles, grids.a.topology, {}, &boxes};
+  const CandidateMesh mesh_b{grids.b.mesh.triangles, grids.b.topology, grids.offsets_b, &boxes};
+  const std::vector<TrianglePair> self_pairs = find_self_pairs(grids.a.bvh);
+  const std::vector<TrianglePair> between_pairs = find_pairs_between(grids.a.bvh, grids.b.bvh);
+  ASSERT_GT(self_pairs.size(), 500u);
+  ASSERT_GT(between_pairs.size(), 500u);
+
+  for (const bool self : {true, false}) {
+    CollisionCandidates every, once;
+    if (self) {
+      append_self_candidates(self_pairs, mesh_a, every, TrianglePairList::any);
+      append_self_candidates(self_pairs, mesh_a, once, TrianglePairList::complete);
+    } else {
+      append_candidates_between(between_pairs, mesh_a, mesh_b, every, TrianglePairList::any);
+      append_candidates_between(between_pairs, mesh_a, mesh_b, once, TrianglePairList::complete);
+    }
+    EXPECT_FALSE(has_repeats(once.vertex_face)) << self;
+    EXPECT_FALSE(has_repeats(once.edge_edge)) << self;
+    EXPECT_TRUE(has_repeats(every.vertex_face)) << self;
+    EXPECT_LT(2 * once.vertex_face.size(), every.vertex_face.size()) << self;
+    EXPECT_LT(2 * once.edge_edge.size(), every.edge_edge.size()) << self;
+    sort_candidates(every);
+    EXPECT_GT(every.vertex_face.size(), 500u) << self;
+    EXPECT_GT(every.edge_edge.size(), 500u) << self;
+    EXPECT_TRUE(sorted_copy(once.vertex_face) == every.vertex_face) << self;
+    EXPECT_TRUE(sorted_copy(once.edge_edge) == every.edge_edge) << self;
+  }
+}
+
+TEST(Candidates, ReQueryOfListedTrianglesFindsEveryPairOfTheirVertices) {
+  // The collision phase's re-query: the triangles around some vertices against every mesh, with
+  // complete lists, must give every candidate of the full query that involves those vertices.
+  const TwoSweptGrids grids;
+  const SweptVertexBoxes boxes{grids.lower, grids.upper, grids.gap};
+  const CandidateMesh mesh_a{grids.a.mesh.triangles, grids.a.topology, {}, &boxes};
+  const CandidateMesh mesh_b{grids.b.mesh.triangles, grids.b.topology, grids.offsets_b, &boxes};
+  CollisionCandidates full;
+  append_self_candidates(find_self_pairs(grids.a.bvh), mesh_a, full);
+  append_candidates_between(find_pairs_between(grids.a.bvh, grids.b.bvh), mesh_a, mesh_b, full);
+  sort_candidates(full);
+
+  std::vector<char> chosen(grids.a.mesh.num_vertices(), 0);
+  for (int v = 0; v < grids.a.mesh.num_vertices(); v += 7) chosen[v] = 1;
+  std::vector<int> listed;
+  for (int t = 0; t < grids.a.mesh.num_triangles(); ++t) {
+    const Vec3i corners = grids.a.mesh.triangles.col(t);
+    if (chosen[corners[0]] || chosen[corners[1]] || chosen[corners[2]]) listed.push_back(t);
+  }
+  std::vector<TrianglePair> pairs;
+  std::vector<int> scratch;
+  CollisionCandidates requery;
+  find_pairs_of(grids.a.bvh, listed, grids.a.bvh, true, pairs, scratch);
+  append_self_candidates(pairs, mesh_a, requery, TrianglePairList::complete);
+  find_pairs_of(grids.a.bvh, listed, grids.b.bvh, false, pairs, scratch);
+  append_candidates_between(pairs, mesh_a, mesh_b, requery, TrianglePairList::complete);
+  sort_candidates(requery);
+
+  const auto is_chosen = [&](int v) { return v < grids.offsets_b.vertex && chosen[v]; };
+  const Triangles& tri_a = grids.a.mesh.triangles;
+  const auto edge_vertex = [&](int e, int k) {
+    return e < grids.offsets_b.edge ? grids.a.topology.edges(k, e) : grids.offsets_b.vertex;  // b: never chosen
+  };
+  int expected = 0;
+  for (const VertexFacePair& pair : full.vertex_face) {
+    const bool face_chosen = pair.triangle < grids.offsets_b.triangle &&
+                             (is_chosen(tri_a(0, pair.triangle)) || is_chosen(tri_a(1, pair.triangle)) ||
+                              is_chosen(tri_a(2, pair.triangle)));
+    if (!is_chosen(pair.vertex) && !face_chosen) continue;
+    ++expected;
+    EXPECT_TRUE(std::binary_search(requery.vertex_face.begin(), requery.vertex_face.end(), pair))
+        << pair.vertex << " " << pair.triangle;
+  }
+  for (const EdgeEdgePair& pair : full.edge_edge) {
+    if (!is_chosen(edge_vertex(pair.edge_a, 0)) && !is_chosen(edge_vertex(pair.edge_a, 1)) &&
+        !is_chosen(edge_vertex(pair.edge_b, 0)) && !is_chosen(edge_vertex(pair.edge_b, 1))) {
+      continue;
+    }
+    ++expected;
+    EXPECT_TRUE(std::binary_search(requery.edge_edge.begin(), requery.edge_edge.end(), pair))
+        << pair.edge_a << " " << pair.edge_b;
+  }
+  EXPECT_GT(expected, 1000);
+  EXPECT_LT(requery.vertex_face.size() + requery.edge_edge.size(),
+            full.vertex_face.size() + full.edge_edge.size());
+}
+
+TEST(Candidates, SelfCandidatesOfANonManifoldMeshAreWrittenFromEveryPair) {
+  // Three triangles on edge (p, q) and F = (a, b, z): A = (p, q, a) and B = (q, p, b) share a
+  // corner with F, only the fin C = (p, q, c) does not, so the edge pair (p, q)-(a, b) comes only
+  // from (C, F), a triangle the topology's two-per-edge record does not hold for (p, q).
+  enum { p, q, a, b, c, z };
+  Positions x(3, 6);
+  x << 0.0, 1.0, 0.5, 0.5, 0.5, 0.5,  //
+      0.0, 0.0, 0.5, -0.5, 0.0, 0.0,  //
+      0.0, 0.0, 0.0, 0.0, 0.5, 0.01;
+  Triangles triangles(3, 4);
+  triangles << p, q, p, a,  //
+      q, p, q, b,           //
+      a, b, c, z;
+  const MeshTopology topology = build_topology(triangles, 6);
+  ASSERT_EQ(topology.non_manifold_edges.size(), 1u);
+  Bvh bvh;
+  bvh.build(x, triangles, 0.5);
+  const std::vector<TrianglePair> pairs = find_self_pairs(bvh);
+  ASSERT_EQ(pairs, (std::vector<TrianglePair>{{2, 3}}));
+  const SweptVertexBoxes boxes{x, x, 1.0};
+  const CandidateMesh mesh{triangles, topology, {}, &boxes};
+  CollisionCandidates every, complete;
+  add_self_candidates(pairs, mesh, every, TrianglePairList::any);
+  add_self_candidates(pairs, mesh, complete, TrianglePairList::complete);
+  EXPECT_EQ(every.edge_edge.size(), 9u);
+  EXPECT_TRUE(complete.vertex_face == every.vertex_face);
+  EXPECT_TRUE(complete.edge_edge == every.edge_edge);
+}
+
+}  // namespace
+}  // namespace weft

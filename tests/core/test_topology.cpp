@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <vector>
 
 #include "core/mesh_generators.hpp"
 
@@ -79,6 +80,20 @@ void expect_consistent(const MeshTopology& topology, const Triangles& triangles)
                            triangles((k + 2) % 3, t0) == hinge[2];
     }
     EXPECT_TRUE(rotation_of_first) << "hinge " << h;
+  }
+
+  // Triangles around each vertex: exactly those with it as a corner, in increasing order.
+  ASSERT_FALSE(topology.vertex_triangle_start.empty());
+  const int num_vertices = static_cast<int>(topology.vertex_triangle_start.size()) - 1;
+  ASSERT_EQ(topology.vertex_triangles.size(), 3 * static_cast<size_t>(triangles.cols()));
+  for (int v = 0; v < num_vertices; ++v) {
+    std::vector<int> expected;
+    for (int t = 0; t < triangles.cols(); ++t) {
+      if (triangle_has(triangles, t, v)) expected.push_back(t);
+    }
+    const std::vector<int> around(topology.vertex_triangles.begin() + topology.vertex_triangle_start[v],
+                                  topology.vertex_triangles.begin() + topology.vertex_triangle_start[v + 1]);
+    EXPECT_EQ(around, expected) << "vertex " << v;
   }
 }
 
