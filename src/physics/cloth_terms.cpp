@@ -1,5 +1,9 @@
 #include "physics/cloth_terms.hpp"
 
+#include <array>
+#include <cstddef>
+
+#include "core/parallel_chunks.hpp"
 #include "physics/gravity.hpp"
 #include "physics/mass_damping.hpp"
 
@@ -66,12 +70,26 @@ double evaluate_dissipation(const ClothModel& model, const Positions& x_start, c
   }
   if (model.mass_damping > 0.0) {
     // Rayleigh damping c M v as the potential c/(2h) |x - x_start|^2_M.
-    const double c = model.mass_damping / h;
-    energy += 0.5 * c * ((x - x_start).colwise().squaredNorm() * model.mass)(0);
-    if (gradient != nullptr) gradient->noalias() += c * ((x - x_start) * model.mass.asDiagonal());
-    if (hessian != nullptr) hessian->add_diagonal(c * model.mass);
+    energy += evaluate_mass_quadratic(model.mass, model.mass_damping / h, x, x_start, gradient, hessian);
   }
   return energy;
+}
+
+double evaluate_mass_quadratic(const Eigen::VectorXd& mass, double weight, const Positions& x,
+                               const Positions& center, Positions* gradient, SparseHessian* hessian) {
+  constexpr std::size_t chunks = 64;
+  std::array<double, chunks> partials;
+  const double sum = chunked_sum(static_cast<int>(x.cols()), partials, [&](int begin, int end) {
+    double partial = 0.0;
+    for (int i = begin; i < end; ++i) {
+      const Vec3 offset = x.col(i) - center.col(i);
+      partial += mass[i] * offset.squaredNorm();
+      if (gradient != nullptr) gradient->col(i) += (weight * mass[i]) * offset;
+    }
+    return partial;
+  });
+  if (hessian != nullptr) hessian->add_diagonal(weight, mass);
+  return 0.5 * weight * sum;
 }
 
 void compute_forces(const ClothModel& model, const Vec3& gravity, const Positions& x, const Positions& v,

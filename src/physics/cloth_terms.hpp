@@ -43,6 +43,13 @@ double evaluate_potential(const ClothModel& model, const Vec3& gravity, const Po
 double evaluate_dissipation(const ClothModel& model, const Positions& x_start, const Positions& x, double h,
                             Positions* gradient, SparseHessian* hessian, const HessianStencils& stencils);
 
+// The mass-weighted quadratic (weight / 2) |x - center|^2_M, the form of implicit Euler's inertia
+// term (weight 1/h^2 around the inertial predictor) and of mass damping's dissipation (c/h around
+// the step's start). Adds its gradient weight M (x - center) and Hessian weight M to those not
+// null. Over the OpenMP threads in fixed chunks: the same bits on any thread count.
+double evaluate_mass_quadratic(const Eigen::VectorXd& mass, double weight, const Positions& x,
+                               const Positions& center, Positions* gradient, SparseHessian* hessian);
+
 // Total force -dE/dx plus damping forces at (x, v), written to `force`.
 void compute_forces(const ClothModel& model, const Vec3& gravity, const Positions& x, const Positions& v,
                     Positions& force);

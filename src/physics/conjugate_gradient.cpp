@@ -3,6 +3,8 @@
 #include <array>
 #include <cmath>
 
+#include "core/parallel_chunks.hpp"
+
 namespace weft {
 
 void ConjugateGradientSolver::compute_preconditioner(const SparseHessian& hessian) {
@@ -14,25 +16,6 @@ void ConjugateGradientSolver::compute_preconditioner(const SparseHessian& hessia
     inverse_blocks_[i] = hessian.diagonal_block(i).inverse();
   }
 }
-
-namespace {
-
-// First vertex of chunk c when n vertices are cut into `chunks` chunks.
-int chunk_begin(int c, int n, int chunks) { return static_cast<int>(static_cast<long long>(n) * c / chunks); }
-
-// Sum over the chunks of partial(begin, end), a partial sum over vertices [begin, end), added in
-// chunk order: the same bits whatever the thread count.
-template <size_t Chunks, class Partial>
-double chunked_sum(int n, std::array<double, Chunks>& partials, const Partial& partial) {
-  const int chunks = static_cast<int>(Chunks);
-#pragma omp parallel for schedule(static)
-  for (int c = 0; c < chunks; ++c) partials[c] = partial(chunk_begin(c, n, chunks), chunk_begin(c + 1, n, chunks));
-  double sum = 0.0;
-  for (const double value : partials) sum += value;
-  return sum;
-}
-
-}  // namespace
 
 // z = P^-1 r (block Jacobi); returns r . z.
 double ConjugateGradientSolver::apply_preconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
@@ -92,12 +75,10 @@ ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hess
     if (r_norm <= threshold) break;
     const double rz_next = apply_preconditioner(r_, z_);
     const double beta = rz_next / rz;
-#pragma omp parallel for schedule(static)
-    for (int c = 0; c < num_chunks; ++c) {
-      const Eigen::Index first = 3 * chunk_begin(c, n, num_chunks);
-      const Eigen::Index count = 3 * chunk_begin(c + 1, n, num_chunks) - first;
+    for_each_chunk(n, num_chunks, [&](int begin, int end) {
+      const Eigen::Index first = 3 * begin, count = 3 * (end - begin);
       p_.segment(first, count) = z_.segment(first, count) + beta * p_.segment(first, count);
-    }
+    });
     rz = rz_next;
   }
   report.relative_residual = r_norm / b_norm;

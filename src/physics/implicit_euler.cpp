@@ -35,10 +35,7 @@ double ImplicitEulerSolver::incremental_potential(const ClothModel& model, const
   SparseHessian* hessian = assemble ? &hessian_ : nullptr;
   if (gradient != nullptr) gradient->setZero();
   if (hessian != nullptr) hessian->set_zero();
-  const double inverse_h2 = 1.0 / (h * h);
-  double value = 0.5 * inverse_h2 * ((x - x_hat_).colwise().squaredNorm() * model.mass)(0);
-  if (gradient != nullptr) gradient->noalias() += inverse_h2 * ((x - x_hat_) * model.mass.asDiagonal());
-  if (hessian != nullptr) hessian->add_diagonal(inverse_h2 * model.mass);
+  double value = evaluate_mass_quadratic(model.mass, 1.0 / (h * h), x, x_hat_, gradient, hessian);
   value += evaluate_potential(model, gravity, x, gradient, hessian, stencils_, project);
   value += evaluate_dissipation(model, x_start_, x, h, gradient, hessian, stencils_);
   if (penalty_ != nullptr) {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/parallel_chunks.hpp"
+
 namespace weft {
 
 void SparseHessian::begin_pattern(int num_vertices) {
@@ -89,10 +91,17 @@ void SparseHessian::add_vertex_block(int vertex, const Mat3& block) {
   }
 }
 
-void SparseHessian::add_diagonal(const Eigen::VectorXd& diagonal) {
+void SparseHessian::set_zero() {
   double* values = matrix_.valuePtr();
+  for_each_chunk(static_cast<int>(matrix_.nonZeros()), 64,
+                 [&](int begin, int end) { std::fill(values + begin, values + end, 0.0); });
+}
+
+void SparseHessian::add_diagonal(double scale, const Eigen::VectorXd& diagonal) {
+  double* values = matrix_.valuePtr();
+#pragma omp parallel for schedule(static)
   for (int i = 0; i < num_vertices_; ++i) {
-    for (int r = 0; r < 3; ++r) values[diagonal_slots_[3 * i + r] + r] += diagonal[i];
+    for (int r = 0; r < 3; ++r) values[diagonal_slots_[3 * i + r] + r] += scale * diagonal[i];
   }
 }
 

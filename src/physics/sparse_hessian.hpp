@@ -35,14 +35,15 @@ class SparseHessian {
   // Vertices whose rows and columns become identity at finish_assembly().
   void set_fixed_vertices(const std::vector<char>& fixed);
 
-  void set_zero() { std::fill(matrix_.valuePtr(), matrix_.valuePtr() + matrix_.nonZeros(), 0.0); }
+  // Zeroes every value (over the OpenMP threads: megabytes at N = 64, once a Newton iteration).
+  void set_zero();
   // Adds an element's (3K x 3K) matrix; element `e` of stencil `stencil`.
   template <int K>
   void add_element(int stencil, int e, const Eigen::Matrix<double, 3 * K, 3 * K>& element_matrix);
   // Adds `block` to the diagonal block of `vertex`.
   void add_vertex_block(int vertex, const Mat3& block);
-  // Adds value * I3 to the diagonal block of every vertex i, value = diagonal[i].
-  void add_diagonal(const Eigen::VectorXd& diagonal);
+  // Adds scale * diagonal[i] * I3 to the diagonal block of every vertex i.
+  void add_diagonal(double scale, const Eigen::VectorXd& diagonal);
   // Makes fixed rows and columns identity.
   void finish_assembly();
 

@@ -143,7 +143,7 @@ TEST(ClothTerms, ConjugateGradientSolvesAndIsTheSameOnAnyThreadCount) {
   std::mt19937 rng(23);
   const Positions x = perturbed(model.rest_positions, 0.03, rng);
   hessian.set_zero();
-  hessian.add_diagonal(model.mass * 240.0 * 240.0);
+  hessian.add_diagonal(240.0 * 240.0, model.mass);
   evaluate_potential(model, Vec3(0.0, -9.81, 0.0), x, nullptr, &hessian, stencils, /*project=*/true);
   hessian.finish_assembly();
   const Positions rhs = perturbed(Positions::Zero(3, x.cols()), 1.0, rng);
@@ -164,6 +164,43 @@ TEST(ClothTerms, ConjugateGradientSolvesAndIsTheSameOnAnyThreadCount) {
   omp_set_num_threads(threads_before);
   EXPECT_EQ(solutions[0], solutions[1]);
   EXPECT_EQ(solutions[0], solutions[2]);
+}
+
+// The inertia and mass-damping form (w/2) |x - c|^2_M: value, gradient w M (x - c) and the
+// Hessian's diagonal blocks w m_i I, with the same bits on one, two and three threads.
+TEST(ClothTerms, MassQuadraticIsExactAndTheSameOnAnyThreadCount) {
+  const int n = 1000;
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> unit(0.1, 1.0);
+  Eigen::VectorXd mass(n);
+  for (int i = 0; i < n; ++i) mass[i] = unit(rng);
+  const Positions center = perturbed(Positions::Zero(3, n), 1.0, rng);
+  const Positions x = perturbed(center, 0.1, rng);
+  const double weight = 240.0 * 240.0;
+  double expected = 0.0;
+  for (int i = 0; i < n; ++i) expected += 0.5 * weight * mass[i] * (x.col(i) - center.col(i)).squaredNorm();
+  SparseHessian hessian;
+  hessian.begin_pattern(n);
+  hessian.finish_pattern();
+  std::vector<double> values;
+  const int threads_before = omp_get_max_threads();
+  for (const int threads : {1, 2, 3}) {
+    omp_set_num_threads(threads);
+    Positions gradient = Positions::Ones(3, n);
+    hessian.set_zero();
+    values.push_back(evaluate_mass_quadratic(mass, weight, x, center, &gradient, &hessian));
+    hessian.finish_assembly();
+    for (int i = 0; i < n; ++i) {
+      EXPECT_LT((gradient.col(i) - Vec3::Ones() - weight * mass[i] * (x.col(i) - center.col(i))).norm(),
+                1e-12 * weight)
+          << i;
+      EXPECT_LT((hessian.diagonal_block(i) - weight * mass[i] * Mat3::Identity()).norm(), 1e-12 * weight) << i;
+    }
+  }
+  omp_set_num_threads(threads_before);
+  EXPECT_NEAR(values[0], expected, 1e-12 * expected);
+  EXPECT_EQ(values[0], values[1]);
+  EXPECT_EQ(values[0], values[2]);
 }
 
 TEST(ClothTerms, DissipationPotentialTaylorTestAndDampingForce) {

@@ -1,0 +1,33 @@
+#pragma once
+// Loops over n items cut into a fixed number of contiguous chunks, the chunks shared among the
+// OpenMP threads. Sums are added chunk by chunk in chunk order, so results depend on the number
+// of chunks only, never on the number of threads.
+#include <array>
+#include <cstddef>
+
+namespace weft {
+
+// First item of chunk c when n items are cut into `chunks` chunks.
+inline int chunk_begin(int c, int n, int chunks) {
+  return static_cast<int>(static_cast<long long>(n) * c / chunks);
+}
+
+// body(begin, end) for every chunk [begin, end) of n items, in parallel.
+template <class Body>
+void for_each_chunk(int n, int chunks, const Body& body) {
+#pragma omp parallel for schedule(static)
+  for (int c = 0; c < chunks; ++c) body(chunk_begin(c, n, chunks), chunk_begin(c + 1, n, chunks));
+}
+
+// The sum over the chunks of partial(begin, end), a partial sum over items [begin, end).
+template <std::size_t Chunks, class Partial>
+double chunked_sum(int n, std::array<double, Chunks>& partials, const Partial& partial) {
+  const int chunks = static_cast<int>(Chunks);
+#pragma omp parallel for schedule(static)
+  for (int c = 0; c < chunks; ++c) partials[c] = partial(chunk_begin(c, n, chunks), chunk_begin(c + 1, n, chunks));
+  double sum = 0.0;
+  for (const double value : partials) sum += value;
+  return sum;
+}
+
+}  // namespace weft
