@@ -125,24 +125,35 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     // Backtracking line search on Phi with the Armijo condition. The full step is nearly always
     // taken, so its trial point is evaluated with the gradient and Hessian the next iteration
     // needs (one pass over the elements per iteration); shorter trials are evaluated for the
-    // value only, and the accepted one is then assembled.
+    // value only, and the accepted one is then assembled. A step below the tolerance ends the
+    // solve whatever fraction of it is taken, so no Hessian is assembled for it: only the
+    // gradient, which the report and the convergence bound read.
     const double slope = gradient_vector().dot(dx_);
+    const bool last_step = dx_.lpNorm<Eigen::Infinity>() < settings.newton_tolerance * h;
     double alpha = 1.0;
     trial_.noalias() = x + step;
-    double trial_value = evaluate_for_newton(trial_);
-    bool assembled_at_trial = true;
+    double trial_value = last_step ? incremental_potential(model, gravity, trial_, h, &gradient_, /*assemble=*/false,
+                                                           /*project=*/false)
+                                   : evaluate_for_newton(trial_);
+    bool evaluated_at_trial = true;
     while (!(trial_value <= value + 1e-4 * alpha * slope)) {  // also backtracks from a NaN value
       alpha *= 0.5;
       if (alpha <= 1e-8) break;
       trial_.noalias() = x + alpha * step;
       trial_value =
           incremental_potential(model, gravity, trial_, h, nullptr, /*assemble=*/false, /*project=*/false);
-      assembled_at_trial = false;
+      evaluated_at_trial = false;
     }
     if (alpha <= 1e-8) break;  // no decrease along dx: cannot improve further
     x = trial_;
     value = trial_value;
-    if (!assembled_at_trial) evaluate_for_newton(x);
+    if (!evaluated_at_trial) {
+      if (last_step) {
+        incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/false, /*project=*/false);
+      } else {
+        evaluate_for_newton(x);
+      }
+    }
     const bool small_step = alpha * dx_.lpNorm<Eigen::Infinity>() < settings.newton_tolerance * h;
     // A projected Newton step solves H dx = -g with H >= M / h^2 (the elastic and damping parts
     // are PSD after projection), so |dx| <= h^2 max(1/m) |g|: when that bound is already below
