@@ -7,8 +7,10 @@ void add_gravity_forces(const Eigen::VectorXd& mass, const Vec3& gravity, Positi
 }
 
 double gravitational_energy(const Eigen::VectorXd& mass, const Vec3& gravity, const Positions& x) {
-  // E = -sum_i m_i g . x_i
-  return -(gravity.transpose() * x * mass)(0);
+  // E = -sum_i m_i g . x_i (a loop: the product g^T x would make a temporary row)
+  double energy = 0.0;
+  for (Eigen::Index i = 0; i < x.cols(); ++i) energy -= mass[i] * gravity.dot(x.col(i));
+  return energy;
 }
 
 }  // namespace weft

@@ -1,12 +1,12 @@
-// Steady-state steps allocate nothing: this executable replaces the global operator new with
-// one that counts calls while `counting` is set, runs a drape with implicit Euler, self-collision
-// and contact with a sphere until the contacts have settled in, then counts the heap allocations
-// of further steps. Its own executable, because the replaced operator new is process-wide.
+// Steady-state steps allocate nothing: this executable replaces the C allocator's entry points
+// (malloc, calloc, realloc, free: what operator new and Eigen's dynamic matrices both end in)
+// with ones that count calls while `counting` is set, runs a drape with implicit Euler,
+// self-collision and contact with a sphere until the contacts have settled in, then counts the
+// heap allocations of further steps. Its own executable, because the replacement is process-wide.
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <cstdlib>
-#include <new>
+#include <cstddef>
 
 #include <nlohmann/json.hpp>
 
@@ -18,19 +18,33 @@ namespace {
 std::atomic<bool> counting{false};
 std::atomic<long> allocations{0};
 
-void* counted_allocation(std::size_t size) {
+void count_allocation() {
   if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* memory = std::malloc(size == 0 ? 1 : size)) return memory;
-  throw std::bad_alloc();
 }
 }  // namespace
 
-void* operator new(std::size_t size) { return counted_allocation(size); }
-void* operator new[](std::size_t size) { return counted_allocation(size); }
-void operator delete(void* memory) noexcept { std::free(memory); }
-void operator delete[](void* memory) noexcept { std::free(memory); }
-void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
-void operator delete[](void* memory, std::size_t) noexcept { std::free(memory); }
+// glibc's own allocator under its internal names; a program may replace malloc, calloc, realloc
+// and free together (glibc manual, "Replacing malloc").
+extern "C" {
+void* __libc_malloc(std::size_t size);
+void* __libc_calloc(std::size_t count, std::size_t size);
+void* __libc_realloc(void* memory, std::size_t size);
+void __libc_free(void* memory);
+
+void* malloc(std::size_t size) {
+  count_allocation();
+  return __libc_malloc(size);
+}
+void* calloc(std::size_t count, std::size_t size) {
+  count_allocation();
+  return __libc_calloc(count, size);
+}
+void* realloc(void* memory, std::size_t size) {
+  count_allocation();
+  return __libc_realloc(memory, size);
+}
+void free(void* memory) { __libc_free(memory); }
+}
 
 namespace weft {
 namespace {
