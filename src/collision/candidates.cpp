@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "core/parallel_chunks.hpp"
+
 namespace weft {
 
 namespace {
@@ -189,9 +191,8 @@ void append_candidates(const std::vector<TrianglePair>& pairs, const CandidateMe
   {
     const int count = omp_get_num_threads();
     for (int k = omp_get_thread_num(); k < threads; k += count) {
-      const int begin = static_cast<int>(static_cast<long long>(num_pairs) * k / threads);
-      const int end = static_cast<int>(static_cast<long long>(num_pairs) * (k + 1) / threads);
-      for (int i = begin; i < end; ++i) {
+      const int end = chunk_begin(k + 1, num_pairs, threads);
+      for (int i = chunk_begin(k, num_pairs, threads); i < end; ++i) {
         append_pair_candidates<self>(pairs[i].a, pairs[i].b, first, second, designated, thread_vertex_faces[k],
                                      thread_edge_edges[k]);
       }

@@ -130,11 +130,14 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     // gradient, which the report and the convergence bound read.
     const double slope = gradient_vector().dot(dx_);
     const bool last_step = dx_.lpNorm<Eigen::Infinity>() < settings.newton_tolerance * h;
+    const auto evaluate_accepted = [&](const Positions& point) {
+      return last_step ? incremental_potential(model, gravity, point, h, &gradient_, /*assemble=*/false,
+                                               /*project=*/false)
+                       : evaluate_for_newton(point);
+    };
     double alpha = 1.0;
     trial_.noalias() = x + step;
-    double trial_value = last_step ? incremental_potential(model, gravity, trial_, h, &gradient_, /*assemble=*/false,
-                                                           /*project=*/false)
-                                   : evaluate_for_newton(trial_);
+    double trial_value = evaluate_accepted(trial_);
     bool evaluated_at_trial = true;
     while (!(trial_value <= value + 1e-4 * alpha * slope)) {  // also backtracks from a NaN value
       alpha *= 0.5;
@@ -147,13 +150,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     if (alpha <= 1e-8) break;  // no decrease along dx: cannot improve further
     x = trial_;
     value = trial_value;
-    if (!evaluated_at_trial) {
-      if (last_step) {
-        incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/false, /*project=*/false);
-      } else {
-        evaluate_for_newton(x);
-      }
-    }
+    if (!evaluated_at_trial) evaluate_accepted(x);
     const bool small_step = alpha * dx_.lpNorm<Eigen::Infinity>() < settings.newton_tolerance * h;
     // A projected Newton step solves H dx = -g with H >= M / h^2 (the elastic and damping parts
     // are PSD after projection), so |dx| <= h^2 max(1/m) |g|: when that bound is already below
