@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "collision/edge_edge.hpp"
+#include "collision/point_triangle.hpp"
 #include "core/parallel_chunks.hpp"
 
 namespace weft {
@@ -76,6 +78,50 @@ bool within_gap(const Box& a, const Box& b, double gap) {
   return (a.lower.array() <= b.upper.array() + gap).all() && (b.lower.array() <= a.upper.array() + gap).all();
 }
 
+// Whether the vertex boxes of primitive `a` and those of primitive `b` are more than the gap apart
+// along `axis` (unit, pointing from a towards b), scaled by |axis|_1. Every point of a primitive,
+// at any time of a motion within its corners' boxes, projects inside the projections of those
+// boxes. The scale keeps the guarantee of the coordinate-axis test (within_gap) that
+// CollisionPhase::verify_motion relies on: a vertex that stays within s of its box per
+// coordinate moves at most s |axis|_1 along the axis.
+template <int NA, int NB>
+bool separated_along(const SweptVertexBoxes& boxes, const std::array<int, NA>& a, const std::array<int, NB>& b,
+                     const Vec3& axis) {
+  const Vec3 abs_axis = axis.cwiseAbs();
+  double a_high = -std::numeric_limits<double>::infinity();
+  for (const int v : a) {  // 2 (n . c + |n| . half) = n . (l + u) + |n| . (u - l)
+    a_high = std::max(a_high, axis.dot(boxes.lower.col(v) + boxes.upper.col(v)) +
+                                  abs_axis.dot(boxes.upper.col(v) - boxes.lower.col(v)));
+  }
+  double b_low = std::numeric_limits<double>::infinity();
+  for (const int v : b) {
+    b_low = std::min(b_low, axis.dot(boxes.lower.col(v) + boxes.upper.col(v)) -
+                                abs_axis.dot(boxes.upper.col(v) - boxes.lower.col(v)));
+  }
+  return 0.5 * (b_low - a_high) > abs_axis.sum() * boxes.gap;
+}
+
+Vec3 box_center(const SweptVertexBoxes& boxes, int v) { return 0.5 * (boxes.lower.col(v) + boxes.upper.col(v)); }
+
+// The second filter of a pair whose boxes pass within_gap: the separating test along the
+// direction between the primitives' closest points at their boxes' centres. It drops the pairs a
+// coordinate-axis test cannot, above all in a flat grid, where the corner a right triangle lacks
+// lies in the triangle's box and the edges of the cell next door touch its diagonal's box.
+bool vertex_face_separated(const SweptVertexBoxes& boxes, int v, const std::array<int, 3>& corners) {
+  const Vec3 p = box_center(boxes, v);
+  const PointTriangleClosest closest = point_triangle_closest(
+      p, box_center(boxes, corners[0]), box_center(boxes, corners[1]), box_center(boxes, corners[2]));
+  if (!(closest.distance > 0.0)) return false;
+  return separated_along<3, 1>(boxes, corners, {v}, (p - closest.closest) / closest.distance);
+}
+
+bool edge_edge_separated(const SweptVertexBoxes& boxes, const std::array<int, 2>& a, const std::array<int, 2>& b) {
+  const EdgeEdgeClosest closest = edge_edge_closest(box_center(boxes, a[0]), box_center(boxes, a[1]),
+                                                    box_center(boxes, b[0]), box_center(boxes, b[1]));
+  if (!(closest.distance > 0.0)) return false;
+  return separated_along<2, 2>(boxes, a, b, (closest.point_b - closest.point_a) / closest.distance);
+}
+
 // Whether triangle s, one of those around vertex v of `mesh`, is v's designated triangle against
 // triangle t (TrianglePairList::complete): the first around v that shares no vertex with t when
 // `self` (t of the same mesh), else simply the first.
@@ -123,19 +169,24 @@ void append_pair_candidates(int s, int t, const CandidateMesh& first, const Cand
   const double gap = boxes ? boxes->gap : 0.0;
   const int vs = first.offsets.vertex;
   const int vt = second.offsets.vertex;
-  const Box box_s = box_of<3>(boxes, {vs + triangles_s(0, s), vs + triangles_s(1, s), vs + triangles_s(2, s)});
-  const Box box_t = box_of<3>(boxes, {vt + triangles_t(0, t), vt + triangles_t(1, t), vt + triangles_t(2, t)});
+
+  const std::array<int, 3> corners_s{vs + triangles_s(0, s), vs + triangles_s(1, s), vs + triangles_s(2, s)};
+  const std::array<int, 3> corners_t{vt + triangles_t(0, t), vt + triangles_t(1, t), vt + triangles_t(2, t)};
+  const Box box_s = box_of<3>(boxes, corners_s);
+  const Box box_t = box_of<3>(boxes, corners_t);
 
   // Vertex-face: each corner of one triangle against the other triangle.
   for (int k = 0; k < 3; ++k) {
     const int v = triangles_s(k, s);
     if ((!self || !has_corner(triangles_t, t, v)) && (!designated || designates_vertex<self>(first, v, s, t)) &&
-        within_gap(box_of<1>(boxes, {vs + v}), box_t, gap)) {
+        within_gap(box_of<1>(boxes, {vs + v}), box_t, gap) &&
+        !(boxes && vertex_face_separated(*boxes, vs + v, corners_t))) {
       vertex_faces.push_back({vs + v, second.offsets.triangle + t});
     }
     const int w = triangles_t(k, t);
     if ((!self || !has_corner(triangles_s, s, w)) && (!designated || designates_vertex<self>(second, w, t, s)) &&
-        within_gap(box_of<1>(boxes, {vt + w}), box_s, gap)) {
+        within_gap(box_of<1>(boxes, {vt + w}), box_s, gap) &&
+        !(boxes && vertex_face_separated(*boxes, vt + w, corners_s))) {
       vertex_faces.push_back({vt + w, first.offsets.triangle + s});
     }
   }
@@ -152,6 +203,7 @@ void append_pair_candidates(int s, int t, const CandidateMesh& first, const Cand
       if (self && (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1)) continue;
       if (designated && !designates_edges<self>(first, second, edge_s, edge_t, s, t)) continue;
       if (!within_gap(box_a, box_of<2>(boxes, {vt + b0, vt + b1}), gap)) continue;
+      if (boxes && edge_edge_separated(*boxes, {vs + a0, vs + a1}, {vt + b0, vt + b1})) continue;
       const int a = first.offsets.edge + edge_s;
       const int b = second.offsets.edge + edge_t;
       edge_edges.push_back({std::min(a, b), std::max(a, b)});

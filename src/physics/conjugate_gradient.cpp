@@ -33,7 +33,7 @@ double ConjugateGradientSolver::apply_preconditioner(const Eigen::VectorXd& r, E
 
 ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hessian, const Eigen::VectorXd& b,
                                                        Eigen::VectorXd& dx, double tolerance, int max_iterations,
-                                                       const Coupling* coupling) {
+                                                       const Coupling* coupling, const Eigen::VectorXd* guess) {
   const SparseHessian::Matrix& matrix = hessian.matrix();
   const Eigen::Index size = matrix.rows();
   const int n = hessian.num_vertices();
@@ -50,18 +50,40 @@ ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hess
   }
   compute_preconditioner(hessian);
   r_ = b;
+  const auto dot = [&](const Eigen::VectorXd& u, const Eigen::VectorXd& v) {
+    return chunked_sum(n, partials_, [&](int begin, int end) {
+      return u.segment(3 * begin, 3 * (end - begin)).dot(v.segment(3 * begin, 3 * (end - begin)));
+    });
+  };
+  if (guess != nullptr) {
+    hessian.multiply(*guess, q_);
+    if (coupling != nullptr) (*coupling)(*guess, q_);
+    const double curvature = dot(*guess, q_);
+    const double along = dot(b, *guess);
+    if (curvature > 0.0 && std::isfinite(along)) {
+      const double alpha = along / curvature;
+      for_each_chunk(n, num_chunks, [&](int begin, int end) {
+        const Eigen::Index first = 3 * begin, count = 3 * (end - begin);
+        dx.segment(first, count) = alpha * guess->segment(first, count);
+        r_.segment(first, count) -= alpha * q_.segment(first, count);
+      });
+    }
+  }
+  double r_norm = std::sqrt(dot(r_, r_));
+  const double threshold = tolerance * b_norm;
+  if (r_norm <= threshold) {
+    report.relative_residual = r_norm / b_norm;
+    report.converged = true;
+    return report;
+  }
   double rz = apply_preconditioner(r_, z_);
   p_ = z_;
-  const double threshold = tolerance * b_norm;
-  double r_norm = b_norm;
   // Each iteration: the product, then three fused passes over the vectors (curvature; dx, r and
   // |r|^2; z and r . z) and the new direction.
   while (report.iterations < max_iterations) {
     hessian.multiply(p_, q_);
     if (coupling != nullptr) (*coupling)(p_, q_);
-    const double curvature = chunked_sum(n, partials_, [&](int begin, int end) {
-      return p_.segment(3 * begin, 3 * (end - begin)).dot(q_.segment(3 * begin, 3 * (end - begin)));
-    });
+    const double curvature = dot(p_, q_);
     if (!(curvature > 0.0)) break;  // not positive definite along p (or NaN): stop with what we have
     const double alpha = rz / curvature;
     const double r_squared = chunked_sum(n, partials_, [&](int begin, int end) {

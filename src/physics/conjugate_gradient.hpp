@@ -27,9 +27,14 @@ class ConjugateGradientSolver {
   // H must be symmetric positive definite (PSD-projected terms plus M / h^2). `coupling`, when
   // given, adds a part of H kept out of the sparse pattern: coupling(p, y) does y += H_extra p
   // (H_extra's diagonal blocks must already be in `hessian`, which the preconditioner reads).
+  // `guess`, when given, is a direction d the solution is expected to lie close to: CG then
+  // starts from the minimiser of the quadratic along d, dx = (b . d / d^T H d) d, instead of 0
+  // (one product more). The implicit Euler step passes the drop gravity alone would cause, the
+  // smoothest mode of the cloth and the one block Jacobi needs the most iterations to build.
   using Coupling = std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>;
   ConjugateGradientReport solve(const SparseHessian& hessian, const Eigen::VectorXd& b, Eigen::VectorXd& dx,
-                                double tolerance, int max_iterations, const Coupling* coupling = nullptr);
+                                double tolerance, int max_iterations, const Coupling* coupling = nullptr,
+                                const Eigen::VectorXd* guess = nullptr);
 
  private:
   void compute_preconditioner(const SparseHessian& hessian);

@@ -56,7 +56,7 @@ class ImplicitEulerSolver {
   void prepare(const ClothModel& model, bool lump_hinge_wings);
   double incremental_potential(const ClothModel& model, const Vec3& gravity, const Positions& x, double h,
                                Positions* gradient, bool assemble, bool project);
-  bool solve(const ImplicitEulerSettings& settings, double cg_tolerance);
+  bool solve(const ImplicitEulerSettings& settings, double cg_tolerance, const Eigen::VectorXd* cg_guess);
 
   const ContactPenalty* penalty_ = nullptr;     // during step()
   ConjugateGradientSolver::Coupling coupling_;  // penalty coupling blocks at x_linearized_
@@ -69,6 +69,7 @@ class ImplicitEulerSolver {
   Positions x_start_, x_hat_, gradient_, trial_;
   Eigen::VectorXd free_mask_;  // 1 for free coordinates, 0 for pinned (3n)
   Eigen::VectorXd rhs_, dx_;
+  Eigen::VectorXd gravity_drop_;  // h^2 g on free coordinates: CG's guess on a step's first solve
   ConjugateGradientSolver cg_;
   SupernodalCholesky cholesky_;
   NewtonReport report_;

@@ -7,6 +7,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <map>
 #include <random>
@@ -14,6 +15,8 @@
 #include <utility>
 #include <vector>
 
+#include "collision/edge_edge.hpp"
+#include "collision/point_triangle.hpp"
 #include "core/mesh_generators.hpp"
 
 namespace weft {
@@ -491,6 +494,114 @@ TEST(Candidates, ReQueryOfListedTrianglesFindsEveryPairOfTheirVertices) {
   EXPECT_GT(expected, 1000);
   EXPECT_LT(requery.vertex_face.size() + requery.edge_edge.size(),
             full.vertex_face.size() + full.edge_edge.size());
+}
+
+// Positions drawn inside each vertex's box grown by `slack` per coordinate (corners half the time).
+Positions positions_in_boxes(const Positions& lower, const Positions& upper, double slack, std::mt19937& rng) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Positions x(3, lower.cols());
+  for (Eigen::Index v = 0; v < lower.cols(); ++v) {
+    for (int d = 0; d < 3; ++d) {
+      const double u = unit(rng) < 0.5 ? unit(rng) : std::round(unit(rng));
+      x(d, v) = lower(d, v) - slack + u * (upper(d, v) - lower(d, v) + 2.0 * slack);
+    }
+  }
+  return x;
+}
+
+TEST(Candidates, EveryPairThatComesWithinTheGapInsideItsBoxesIsACandidate) {
+  // What CollisionPhase::verify_motion relies on: with every vertex within `slack` (per
+  // coordinate) of its box, a primitive pair closer than gap - 2 slack is a candidate. Checked
+  // on positions drawn in the grown boxes, over every vertex-face and edge-edge pair of the two
+  // crumpled grids (self pairs without shared vertices, and between the grids).
+  const TwoSweptGrids grids;
+  const SweptVertexBoxes boxes{grids.lower, grids.upper, grids.gap};
+  const CandidateMesh mesh_a{grids.a.mesh.triangles, grids.a.topology, {}, &boxes};
+  const CandidateMesh mesh_b{grids.b.mesh.triangles, grids.b.topology, grids.offsets_b, &boxes};
+  CollisionCandidates candidates;
+  append_self_candidates(find_self_pairs(grids.a.bvh), mesh_a, candidates, TrianglePairList::complete);
+  append_candidates_between(find_pairs_between(grids.a.bvh, grids.b.bvh), mesh_a, mesh_b, candidates,
+                            TrianglePairList::complete);
+  sort_candidates(candidates);
+
+  const int na = grids.a.mesh.num_vertices();
+  Triangles triangles(3, grids.a.mesh.num_triangles() + grids.b.mesh.num_triangles());
+  triangles << grids.a.mesh.triangles, grids.b.mesh.triangles.array() + na;
+  Eigen::Matrix2Xi edges(2, grids.a.topology.num_edges() + grids.b.topology.num_edges());
+  edges << grids.a.topology.edges, grids.b.topology.edges.array() + na;
+  const auto mesh_of = [&](int v) { return v < na ? 0 : 1; };
+  // Self pairs come from triangle pairs without a shared vertex (see query_candidates): a vertex
+  // against a face when a triangle around it shares no vertex with the face, two edges when a
+  // triangle at each does.
+  const MeshTopology& topology = grids.a.topology;
+  const Triangles& own = grids.a.mesh.triangles;
+  const auto self_vertex_face = [&](int v, int t) {
+    for (int k = topology.vertex_triangle_start[v]; k < topology.vertex_triangle_start[v + 1]; ++k) {
+      if (!share_vertex(own, topology.vertex_triangles[k], t)) return true;
+    }
+    return false;
+  };
+  const auto self_edge_edge = [&](int e, int f) {
+    for (int i = 0; i < 2; ++i) {
+      for (int j = 0; j < 2; ++j) {
+        const int a = topology.edge_triangles(i, e), b = topology.edge_triangles(j, f);
+        if (a >= 0 && b >= 0 && !share_vertex(own, a, b)) return true;
+      }
+    }
+    return false;
+  };
+  std::mt19937 rng(11);
+  int close_pairs = 0;
+  for (const double slack : {0.0, 0.3 * grids.gap}) {
+    const double within = grids.gap - 2.0 * slack;
+    for (int draw = 0; draw < 3; ++draw) {
+      const Positions x = positions_in_boxes(grids.lower, grids.upper, slack, rng);
+      for (int v = 0; v < x.cols(); ++v) {
+        for (int t = 0; t < triangles.cols(); ++t) {
+          const Vec3i c = triangles.col(t);
+          if (mesh_of(v) == 1 && mesh_of(c[0]) == 1) continue;  // grid b has no self-collision here
+          if (mesh_of(v) == 0 && mesh_of(c[0]) == 0 && !self_vertex_face(v, t)) continue;
+          if (point_triangle_closest(x.col(v), x.col(c[0]), x.col(c[1]), x.col(c[2])).distance >= within) continue;
+          ++close_pairs;
+          EXPECT_TRUE(std::binary_search(candidates.vertex_face.begin(), candidates.vertex_face.end(),
+                                         VertexFacePair{v, t}))
+              << v << " " << t << " slack " << slack;
+        }
+      }
+      for (int e = 0; e < edges.cols(); ++e) {
+        for (int f = e + 1; f < edges.cols(); ++f) {
+          const Eigen::Vector2i a = edges.col(e), b = edges.col(f);
+          if (mesh_of(a[0]) == 1 && mesh_of(b[0]) == 1) continue;
+          if (mesh_of(a[0]) == 0 && mesh_of(b[0]) == 0 && !self_edge_edge(e, f)) continue;
+          if (edge_edge_closest(x.col(a[0]), x.col(a[1]), x.col(b[0]), x.col(b[1])).distance >= within) continue;
+          ++close_pairs;
+          EXPECT_TRUE(std::binary_search(candidates.edge_edge.begin(), candidates.edge_edge.end(),
+                                         EdgeEdgePair{e, f}))
+              << e << " " << f << " slack " << slack;
+        }
+      }
+    }
+  }
+  EXPECT_GT(close_pairs, 1000);
+}
+
+TEST(Candidates, AFlatGridAtRestHasNoCandidates) {
+  // Every pair of a flat grid that shares no vertex is at least half a cell's diagonal apart, far
+  // more than the gap; yet a right triangle's box holds the corner it lacks and a diagonal's box
+  // the sides of the next cells, so a coordinate-box filter alone keeps thousands of them.
+  const TriangleMesh mesh = make_grid(32, 32, 1.0, 1.0, GridTriangulation::alternating);
+  const double gap = 0.005;  // cells of 1/31 m
+  const MeshTopology topology = build_topology(mesh.triangles, mesh.num_vertices());
+  Bvh bvh;
+  bvh.build(mesh.positions, mesh.positions, mesh.triangles, 0.5 * gap);
+  const std::vector<TrianglePair> pairs = find_self_pairs(bvh);
+  ASSERT_GT(pairs.size(), 1000u);
+  const SweptVertexBoxes boxes{mesh.positions, mesh.positions, gap};
+  CollisionCandidates candidates;
+  add_self_candidates(pairs, CandidateMesh{mesh.triangles, topology, {}, &boxes}, candidates,
+                      TrianglePairList::complete);
+  EXPECT_TRUE(candidates.vertex_face.empty()) << candidates.vertex_face.size();
+  EXPECT_TRUE(candidates.edge_edge.empty()) << candidates.edge_edge.size();
 }
 
 TEST(Candidates, SelfCandidatesOfANonManifoldMeshAreWrittenFromEveryPair) {
