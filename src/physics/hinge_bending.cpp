@@ -90,17 +90,49 @@ double dihedral_angle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3
   return hinge_frame(x0, x1, x2, x3).theta;
 }
 
+namespace {
+
+// What every form of the hinge's derivatives starts from: the frame, the wrapped angle
+// difference d, k = stiffness * weight and the angle gradient (zero when degenerate).
+struct HingeState {
+  HingeFrame frame;
+  double delta;
+  double k;
+};
+
+HingeState hinge_state(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3, const HingeRest& rest,
+                       double stiffness) {
+  HingeState state{hinge_frame(x0, x1, x2, x3), 0.0, stiffness * rest.weight};
+  state.delta = state.frame.theta - rest.rest_angle;
+  if (state.delta > pi) {
+    state.delta -= 2.0 * pi;
+  } else if (state.delta < -pi) {
+    state.delta += 2.0 * pi;
+  }
+  return state;
+}
+
+// Angle gradient (Bridson et al. 2003): -m1 on x2, -m2 on x3, and on the edge vertices the
+// split that keeps it free of net force and torque; m = |e| n/|n|^2, s = (p - x0).e/|e|^2.
+Vector12d angle_gradient(const HingeFrame& h) {
+  const double l = std::sqrt(h.l2);
+  const Vec3 m1 = (l / h.n1.squaredNorm()) * h.n1;
+  const Vec3 m2 = (l / h.n2.squaredNorm()) * h.n2;
+  const double s1 = h.u1.dot(h.e) / h.l2;
+  const double s2 = h.u2.dot(h.e) / h.l2;
+  Vector12d gradient;
+  gradient << (1.0 - s1) * m1 + (1.0 - s2) * m2, s1 * m1 + s2 * m2, -m1, -m2;
+  return gradient;
+}
+
+}  // namespace
+
 double hinge_bending_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3,
                             const HingeRest& rest, double stiffness, Vector12d* gradient, Matrix12d* hessian,
                             bool gauss_newton) {
-  const HingeFrame h = hinge_frame(x0, x1, x2, x3);
-  double delta = h.theta - rest.rest_angle;
-  if (delta > pi) {
-    delta -= 2.0 * pi;
-  } else if (delta < -pi) {
-    delta += 2.0 * pi;
-  }
-  const double k = stiffness * rest.weight;
+  const HingeState state = hinge_state(x0, x1, x2, x3, rest, stiffness);
+  const HingeFrame& h = state.frame;
+  const double k = state.k, delta = state.delta;
   const double energy = k * delta * delta;
   if (!gradient && !hessian) return energy;
   if (h.degenerate) {
@@ -108,29 +140,30 @@ double hinge_bending_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, cons
     if (hessian) hessian->setZero();
     return energy;
   }
-
-  // Angle gradient (Bridson et al. 2003): -m1 on x2, -m2 on x3, and on the edge vertices the
-  // split that keeps it free of net force and torque; m = |e| n/|n|^2, s = (p - x0).e/|e|^2.
-  const double l = std::sqrt(h.l2);
-  const Vec3 m1 = (l / h.n1.squaredNorm()) * h.n1;
-  const Vec3 m2 = (l / h.n2.squaredNorm()) * h.n2;
-  const double s1 = h.u1.dot(h.e) / h.l2;
-  const double s2 = h.u2.dot(h.e) / h.l2;
-  Vector12d angle_gradient;
-  angle_gradient << (1.0 - s1) * m1 + (1.0 - s2) * m2, s1 * m1 + s2 * m2, -m1, -m2;
-  if (gradient) *gradient = (2.0 * k * delta) * angle_gradient;
+  const Vector12d a = angle_gradient(h);
+  if (gradient) *gradient = (2.0 * k * delta) * a;
 
   // H = 2 k (grad theta grad theta^T + delta hess theta); hess theta is the sum of the wings'.
   if (hessian && gauss_newton) {
-    hessian->noalias() = (2.0 * k) * angle_gradient * angle_gradient.transpose();
+    hessian->noalias() = (2.0 * k) * a * a.transpose();
   } else if (hessian) {
     Matrix12d angle_hessian = Matrix12d::Zero();
     add_wing_hessian(h.e, h.u1, h.n1, 1.0, 2, h.l2, angle_hessian);
     add_wing_hessian(h.e, h.u2, h.n2, -1.0, 3, h.l2, angle_hessian);
-    hessian->noalias() = (2.0 * k) * angle_gradient * angle_gradient.transpose();
+    hessian->noalias() = (2.0 * k) * a * a.transpose();
     *hessian += (k * delta) * (angle_hessian + angle_hessian.transpose());
   }
   return energy;
+}
+
+HingeGaussNewton hinge_bending_gauss_newton(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3,
+                                           const HingeRest& rest, double stiffness) {
+  const HingeState state = hinge_state(x0, x1, x2, x3, rest, stiffness);
+  HingeGaussNewton result{state.k * state.delta * state.delta, Vector12d::Zero(), Vector12d::Zero(), 2.0 * state.k};
+  if (state.frame.degenerate) return result;
+  result.angle_gradient = angle_gradient(state.frame);
+  result.gradient = (2.0 * state.k * state.delta) * result.angle_gradient;
+  return result;
 }
 
 BendingTerm make_bending_term(const MeshTopology& topology, const Positions& rest_positions,
@@ -156,22 +189,25 @@ BendingTerm make_bending_term(const MeshTopology& topology, const Positions& res
 
 double evaluate_hinge_bending(const BendingTerm& term, const Positions& x, Positions* gradient,
                               SparseHessian* hessian, int stencil, bool project) {
-  const bool lump_wings = hessian != nullptr && !hessian->couples(stencil, 2, 3);
   return term.coloring.sum_over_elements(static_cast<int>(term.hinges.cols()), [&](int h) {
+    const Eigen::Vector4i v = term.hinges.col(h);
+    if (hessian && project) {  // Gauss-Newton: the rank-one Hessian goes into the blocks unformed
+      const HingeGaussNewton hinge = hinge_bending_gauss_newton(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]),
+                                                                term.rest[h], term.stiffness);
+      if (gradient) {
+        for (int k = 0; k < 4; ++k) gradient->col(v[k]) += hinge.gradient.segment<3>(3 * k);
+      }
+      hessian->add_element_outer<4>(stencil, h, hinge.curvature, hinge.angle_gradient);
+      return hinge.energy;
+    }
     Vector12d element_gradient;
     Matrix12d element_hessian;
-    const Eigen::Vector4i v = term.hinges.col(h);
     const double energy =
         hinge_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), term.rest[h], term.stiffness,
                              gradient ? &element_gradient : nullptr, hessian ? &element_hessian : nullptr,
                              /*gauss_newton=*/project);
     if (gradient) {
       for (int k = 0; k < 4; ++k) gradient->col(v[k]) += element_gradient.segment<3>(3 * k);
-    }
-    if (lump_wings) {
-      // Gauss-Newton blocks: H22 = 2k a2 a2^T, H33 = 2k a3 a3^T; lumping H23 doubles both.
-      element_hessian.block<3, 3>(6, 6) *= 2.0;
-      element_hessian.block<3, 3>(9, 9) *= 2.0;
     }
     if (hessian) hessian->add_element<4>(stencil, h, element_hessian);
     return energy;

@@ -42,6 +42,17 @@ double hinge_bending_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, cons
                             const HingeRest& rest, double stiffness, Vector12d* gradient, Matrix12d* hessian,
                             bool gauss_newton = false);
 
+// The same energy and gradient with the Gauss-Newton Hessian in factored form: H = curvature *
+// angle_gradient angle_gradient^T (curvature = 2 k), for assembly without the 12x12 matrix.
+struct HingeGaussNewton {
+  double energy;
+  Vector12d gradient;
+  Vector12d angle_gradient;  // zero where the angle is ill-defined
+  double curvature;
+};
+HingeGaussNewton hinge_bending_gauss_newton(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3,
+                                           const HingeRest& rest, double stiffness);
+
 // The bending term of a cloth: every interior edge of the rest mesh (no hinges: the term is off).
 struct BendingTerm {
   Eigen::Matrix4Xi hinges;      // MeshTopology::hinges layout (4 x n_hinges)
@@ -60,6 +71,7 @@ BendingTerm make_bending_term(const MeshTopology& topology, const Positions& res
 // by its Gauss-Newton part rather than by an eigen-decomposition: on a 64x64 membrane cloth the
 // 12x12 eigen-projection took 45% of an implicit step (perf), the Gauss-Newton form costs a rank-one
 // update, and Newton still converges in the same number of iterations (measured, docs/performance.md).
+// That rank-one matrix is added block by block (SparseHessian::add_element_outer), never formed.
 //
 // When the stencil leaves the wing tips x2, x3 uncoupled (SparseHessian::couples(stencil, 2, 3)
 // false, prepare_hessian's `lump_hinge_wings`), their blocks H23 = H32^T are lumped onto H22 and

@@ -40,6 +40,12 @@ class SparseHessian {
   // Adds an element's (3K x 3K) matrix; element `e` of stencil `stencil`.
   template <int K>
   void add_element(int stencil, int e, const Eigen::Matrix<double, 3 * K, 3 * K>& element_matrix);
+  // Adds the rank-one element matrix scale * a a^T (a of 3K entries: a Gauss-Newton term's) without
+  // forming it. A pair of local vertices (p, q) the stencil leaves out of the pattern is lumped:
+  // its blocks a_p a_q^T + a_q a_p^T are bounded by a_p a_p^T + a_q a_q^T, which is added to the
+  // diagonal blocks instead, so the assembled matrix stays PSD and only grows.
+  template <int K>
+  void add_element_outer(int stencil, int e, double scale, const Eigen::Matrix<double, 3 * K, 1>& a);
   // Adds `block` to the diagonal block of `vertex`.
   void add_vertex_block(int vertex, const Mat3& block);
   // Adds scale * diagonal[i] * I3 to the diagonal block of every vertex i.
@@ -108,6 +114,25 @@ void SparseHessian::add_element(int stencil, int e, const Eigen::Matrix<double, 
       for (int r = 0; r < 3; ++r) {
         double* row = values + slots[(a * K + b) * 3 + r];
         for (int c = 0; c < 3; ++c) row[c] += element_matrix(3 * a + r, 3 * b + c);
+      }
+    }
+  }
+}
+
+template <int K>
+void SparseHessian::add_element_outer(int stencil, int e, double scale, const Eigen::Matrix<double, 3 * K, 1>& a) {
+  const int* slots = stencil_slots_[stencil].data() + static_cast<size_t>(e) * K * K * 3;
+  const std::pair<int, int>& left_out = stencil_uncoupled_[stencil];
+  double* values = matrix_.valuePtr();
+  for (int p = 0; p < K; ++p) {
+    const Vec3 scaled = scale * a.template segment<3>(3 * p);
+    for (int q = 0; q < K; ++q) {
+      if (slots[(p * K + q) * 3] < 0) continue;  // the pair left out of the pattern
+      const bool lumped_onto = q == p && (p == left_out.first || p == left_out.second);
+      const Vec3 column = (lumped_onto ? 2.0 : 1.0) * a.template segment<3>(3 * q);
+      for (int r = 0; r < 3; ++r) {
+        double* row = values + slots[(p * K + q) * 3 + r];
+        for (int c = 0; c < 3; ++c) row[c] += scaled[r] * column[c];
       }
     }
   }

@@ -130,6 +130,57 @@ TEST(HingeBending, DerivativesTaylorTestAcrossThetaPi) {
   }
 }
 
+TEST(HingeBending, FactoredGaussNewtonFormMatchesTheElementMatrix) {
+  // hinge_bending_gauss_newton gives the energy and gradient of hinge_bending_energy and the
+  // Gauss-Newton Hessian as curvature * a a^T; assembled with add_element_outer it fills the
+  // same matrix as the formed 12x12 element, and with the wing tips left out of the pattern it
+  // puts 2 curvature a_p a_p^T on their diagonal blocks.
+  std::mt19937 rng(23);
+  const double stiffness = 0.7;
+  const Vector12d rest_shape = folded_hinge(0.3, 0.05, rng);
+  Eigen::Matrix<int, 4, 1> hinge(0, 1, 2, 3);
+  for (const double fold : {-2.0, -0.4, 0.0, 1.1, 3.0}) {
+    const Vector12d q = folded_hinge(fold, 0.05, rng);
+    Vector12d gradient;
+    Matrix12d gauss_newton;
+    const double energy = hinge_bending_energy(at(q, 0), at(q, 1), at(q, 2), at(q, 3), rest_of(rest_shape), stiffness,
+                                               &gradient, &gauss_newton, /*gauss_newton=*/true);
+    const HingeGaussNewton factored =
+        hinge_bending_gauss_newton(at(q, 0), at(q, 1), at(q, 2), at(q, 3), rest_of(rest_shape), stiffness);
+    EXPECT_EQ(factored.energy, energy);
+    EXPECT_LE((factored.gradient - gradient).norm(), 1e-15 * gradient.norm());
+    const Matrix12d outer = factored.curvature * factored.angle_gradient * factored.angle_gradient.transpose();
+    EXPECT_LE((outer - gauss_newton).norm(), 1e-14 * gauss_newton.norm());
+    ASSERT_GT(gauss_newton.norm(), 0.0);
+
+    for (const bool lump : {false, true}) {
+      SparseHessian formed, unformed;
+      int stencil = 0;
+      for (SparseHessian* h : {&formed, &unformed}) {
+        h->begin_pattern(4);
+        stencil = lump ? h->add_stencil<4>(hinge, 2, 3) : h->add_stencil<4>(hinge);
+        h->finish_pattern();
+        h->set_zero();
+      }
+      Matrix12d element = gauss_newton;
+      if (lump) {
+        element.block<3, 3>(6, 6) *= 2.0;
+        element.block<3, 3>(9, 9) *= 2.0;
+      }
+      formed.add_element<4>(stencil, 0, element);
+      unformed.add_element_outer<4>(stencil, 0, factored.curvature, factored.angle_gradient);
+      const Eigen::MatrixXd a = Eigen::MatrixXd(formed.matrix()), b = Eigen::MatrixXd(unformed.matrix());
+      EXPECT_LE((a - b).norm(), 1e-14 * a.norm()) << "lump " << lump;
+      const double tips = b.block(6, 9, 3, 3).norm();
+      if (lump) {
+        EXPECT_EQ(tips, 0.0);
+      } else {
+        EXPECT_GT(tips, 0.0);
+      }
+    }
+  }
+}
+
 TEST(HingeBending, AngleIsZeroFlatAndSignedNinetyDegreesFolded) {
   const Vec3 x0(0, 0, 0), x1(1, 0, 0), x2(0.5, 1, 0);  // normal +z
   EXPECT_NEAR(dihedral_angle(x0, x1, x2, Vec3(0.3, -1, 0)), 0.0, 1e-15);
