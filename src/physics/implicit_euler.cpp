@@ -82,6 +82,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   report_.linear_iterations = 0;
   report_.converged = false;
   report_.projected_hessians = 0;
+  report_.stretched_steps = 0;
   report_.gradient_norms.clear();
 
   // Inertial predictor; pinned vertices keep their (zero) velocity, so they stay put.
@@ -156,9 +157,32 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
       evaluated_at_trial = false;
     }
     if (alpha <= 1e-8) break;  // no decrease along dx: cannot improve further
-    x = trial_;
-    value = trial_value;
-    if (!evaluated_at_trial) evaluate_accepted(x);
+    // Expansion: Phi(a) ~ value + slope a + c a^2 through Phi(1) has its minimum at -slope/(2c)
+    // (none when c <= 0). In the tail of a step where the cloth buckles, Newton otherwise creeps
+    // along the buckling mode by the same small full step iteration after iteration.
+    bool stretched = false;
+    if (alpha == 1.0 && !last_step && settings.max_step_expansion > 1.0) {
+      const double c = trial_value - value - slope;
+      const double minimum = c > 0.0 ? -slope / (2.0 * c) : settings.max_step_expansion;
+      if (minimum > 1.5) {
+        const double stretch = std::min(minimum, settings.max_step_expansion);
+        x.noalias() += stretch * step;  // x is free: the fallback is trial_
+        const double stretched_value =
+            incremental_potential(model, gravity, x, h, nullptr, /*assemble=*/false, /*project=*/false);
+        if (stretched_value < trial_value) {
+          value = stretched_value;
+          alpha = stretch;
+          evaluate_accepted(x);
+          stretched = true;
+          ++report_.stretched_steps;
+        }
+      }
+    }
+    if (!stretched) {
+      x = trial_;
+      value = trial_value;
+      if (!evaluated_at_trial) evaluate_accepted(x);
+    }
     const bool small_step = alpha * dx_.lpNorm<Eigen::Infinity>() < settings.newton_tolerance * h;
     // A projected Newton step solves H dx = -g with H >= M / h^2 (the elastic and damping parts
     // are PSD after projection), so |dx| <= h^2 max(1/m) |g|: when that bound is already below

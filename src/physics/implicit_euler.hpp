@@ -3,7 +3,8 @@
 //   x_{n+1} = argmin  1/(2h^2) |x - x_hat|^2_M + E(x) + D(x),   x_hat = x_n + h v_n,
 // with E the potential (elastic terms, gravity) and D the damping terms' dissipation potential;
 // then v_{n+1} = (x_{n+1} - x_n)/h. Newton's method with a backtracking (Armijo) line search on
-// the incremental potential and a sparse solve: conjugate gradient on the element-wise
+// the incremental potential (which may also stretch a full step, see max_step_expansion) and a
+// sparse solve: conjugate gradient on the element-wise
 // PSD-projected Hessian, or supernodal Cholesky on the exact Hessian wherever that is positive
 // definite (the projected one where it is not).
 #include <vector>
@@ -23,6 +24,11 @@ struct ImplicitEulerSettings {
   double newton_tolerance = 1e-5;  // m/s: stop when the Newton step's largest |dx| / h, or the bound
                                    // h max(1/m) |g| on the next step's, is below this
   int max_newton_iterations = 30;
+  // When the full Newton step is taken and the quadratic through Phi(x), its slope and
+  // Phi(x + dx) puts the minimum along dx beyond 1.5 dx (the model over-estimated the curvature:
+  // a cloth buckling, whose negative curvature the PSD projection drops), the step is stretched
+  // to that minimum, at most this many times dx, if Phi is lower there. 1 turns it off.
+  double max_step_expansion = 4.0;
   LinearSolverKind linear_solver = LinearSolverKind::conjugate_gradient;
   // Conjugate gradient stops at a relative residual eta_k that tightens as Newton converges
   // (Eisenstat and Walker's forcing term): eta_0 = cg_initial_tolerance, then
@@ -39,6 +45,7 @@ struct NewtonReport {
   bool converged = false;
   int projected_hessians = 0;          // Cholesky only: iterations whose exact Hessian was not positive
                                        // definite, so the element-wise projected one was solved instead
+  int stretched_steps = 0;              // Newton steps the line search stretched past dx (max_step_expansion)
   std::vector<double> gradient_norms;  // |grad of incremental potential| over free vertices, per iteration
 };
 
