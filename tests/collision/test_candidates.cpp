@@ -395,6 +395,18 @@ struct TwoSweptGrids {
   }
 };
 
+// Grid a against itself and against grid b, as the collision phase's full query.
+CollisionCandidates full_query(const TwoSweptGrids& grids, TrianglePairList list) {
+  const SweptVertexBoxes boxes{grids.lower, grids.upper, grids.gap};
+  const CandidateMesh mesh_a{grids.a.mesh.triangles, grids.a.topology, {}, &boxes};
+  const CandidateMesh mesh_b{grids.b.mesh.triangles, grids.b.topology, grids.offsets_b, &boxes};
+  CollisionCandidates candidates;
+  append_self_candidates(find_self_pairs(grids.a.bvh), mesh_a, candidates, list);
+  append_candidates_between(find_pairs_between(grids.a.bvh, grids.b.bvh), mesh_a, mesh_b, candidates, list);
+  sort_candidates(candidates);
+  return candidates;
+}
+
 template <typename T>
 std::vector<T> sorted_copy(std::vector<T> items) {
   std::sort(items.begin(), items.end());
@@ -446,10 +458,7 @@ TEST(Candidates, ReQueryOfListedTrianglesFindsEveryPairOfTheirVertices) {
   const SweptVertexBoxes boxes{grids.lower, grids.upper, grids.gap};
   const CandidateMesh mesh_a{grids.a.mesh.triangles, grids.a.topology, {}, &boxes};
   const CandidateMesh mesh_b{grids.b.mesh.triangles, grids.b.topology, grids.offsets_b, &boxes};
-  CollisionCandidates full;
-  append_self_candidates(find_self_pairs(grids.a.bvh), mesh_a, full);
-  append_candidates_between(find_pairs_between(grids.a.bvh, grids.b.bvh), mesh_a, mesh_b, full);
-  sort_candidates(full);
+  const CollisionCandidates full = full_query(grids, TrianglePairList::any);
 
   std::vector<char> chosen(grids.a.mesh.num_vertices(), 0);
   for (int v = 0; v < grids.a.mesh.num_vertices(); v += 7) chosen[v] = 1;
@@ -515,14 +524,7 @@ TEST(Candidates, EveryPairThatComesWithinTheGapInsideItsBoxesIsACandidate) {
   // on positions drawn in the grown boxes, over every vertex-face and edge-edge pair of the two
   // crumpled grids (self pairs without shared vertices, and between the grids).
   const TwoSweptGrids grids;
-  const SweptVertexBoxes boxes{grids.lower, grids.upper, grids.gap};
-  const CandidateMesh mesh_a{grids.a.mesh.triangles, grids.a.topology, {}, &boxes};
-  const CandidateMesh mesh_b{grids.b.mesh.triangles, grids.b.topology, grids.offsets_b, &boxes};
-  CollisionCandidates candidates;
-  append_self_candidates(find_self_pairs(grids.a.bvh), mesh_a, candidates, TrianglePairList::complete);
-  append_candidates_between(find_pairs_between(grids.a.bvh, grids.b.bvh), mesh_a, mesh_b, candidates,
-                            TrianglePairList::complete);
-  sort_candidates(candidates);
+  const CollisionCandidates candidates = full_query(grids, TrianglePairList::complete);
 
   const int na = grids.a.mesh.num_vertices();
   Triangles triangles(3, grids.a.mesh.num_triangles() + grids.b.mesh.num_triangles());
