@@ -117,7 +117,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     }
     rhs_ = -gradient_vector();
     // The first solve of a step starts CG from the best multiple of the drop gravity alone would
-    // cause: in free fall that is the whole answer, which block Jacobi would take ~40 iterations to
+    // cause: in free fall that is the whole answer, which block Jacobi would take tens of iterations to
     // build; where gravity is balanced the multiple is near zero and CG runs as without it.
     const Eigen::VectorXd* cg_guess = iteration == 0 ? &gravity_drop_ : nullptr;
     bool solved = solve(settings, cg_tolerance, cg_guess);
