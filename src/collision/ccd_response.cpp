@@ -97,30 +97,34 @@ std::optional<CcdCollision> detect_collision(const CollisionStep& step, const Ed
 
 void detect_collisions(const CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
                        const std::vector<EdgeEdgePair>& edge_edges, const ResponseSettings& settings,
-                       std::vector<CcdCollision>& collisions) {
-  collisions.clear();
+                       CcdCollisions& collisions) {
+  collisions.found.clear();
   const int num_vertex_faces = static_cast<int>(vertex_faces.size());
   const int total = num_vertex_faces + static_cast<int>(edge_edges.size());
+  const int max_threads = std::max(1, omp_get_max_threads());
+  if (static_cast<int>(collisions.thread_found.size()) < max_threads) collisions.thread_found.resize(max_threads);
   // Each thread tests a contiguous slice of the pairs and keeps its hits in order; the slices
   // are joined in thread order, so the list is the same for any number of threads.
+  int threads = 1;
 #pragma omp parallel if (total > 256)
   {
-    std::vector<CcdCollision> found;
-    const int threads = omp_get_num_threads();
+    const int count = omp_get_num_threads();
     const int thread = omp_get_thread_num();
-    const int begin = static_cast<int>(static_cast<long long>(total) * thread / threads);
-    const int end = static_cast<int>(static_cast<long long>(total) * (thread + 1) / threads);
+    if (thread == 0) threads = count;
+    std::vector<CcdCollision>& found = collisions.thread_found[thread];
+    found.clear();
+    const int begin = static_cast<int>(static_cast<long long>(total) * thread / count);
+    const int end = static_cast<int>(static_cast<long long>(total) * (thread + 1) / count);
     for (int k = begin; k < end; ++k) {
       const std::optional<CcdCollision> collision =
           k < num_vertex_faces ? detect_collision(step, vertex_faces[k], settings)
                                : detect_collision(step, edge_edges[k - num_vertex_faces], settings);
       if (collision) found.push_back(*collision);
     }
-#pragma omp for ordered schedule(static, 1)
-    for (int t = 0; t < threads; ++t) {
-#pragma omp ordered
-      collisions.insert(collisions.end(), found.begin(), found.end());
-    }
+  }
+  for (int t = 0; t < threads; ++t) {
+    collisions.found.insert(collisions.found.end(), collisions.thread_found[t].begin(),
+                            collisions.thread_found[t].end());
   }
 }
 

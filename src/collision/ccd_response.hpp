@@ -30,10 +30,19 @@ std::optional<CcdCollision> detect_collision(const CollisionStep& step, const Ve
 std::optional<CcdCollision> detect_collision(const CollisionStep& step, const EdgeEdgePair& pair,
                                              const ResponseSettings& settings);
 
+// Every colliding pair of the current motion, found over the OpenMP threads into per-thread
+// buffers that are kept from call to call (so a warmed-up step allocates nothing).
+struct CcdCollisions {
+  std::vector<CcdCollision> found;                      // in pair order, whatever the thread count
+  std::vector<std::vector<CcdCollision>> thread_found;  // scratch, one per thread
+
+  bool empty() const { return found.empty(); }
+};
+
 // Clears `collisions` and fills it with every colliding pair of the current motion.
 void detect_collisions(const CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
                        const std::vector<EdgeEdgePair>& edge_edges, const ResponseSettings& settings,
-                       std::vector<CcdCollision>& collisions);
+                       CcdCollisions& collisions);
 
 // Inelastic impulse on one collision (a no-op where the pair already separates fast enough or all
 // its vertices have infinite mass); returns the impulse magnitude.

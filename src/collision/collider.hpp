@@ -28,7 +28,8 @@ struct ColliderMotion {
   // Where a point, or each column of `rest` (both given at time 0), is at time t.
   Vec3 place(const Vec3& point, double t) const { return rotation(t) * point + translation(t); }
   void place(const Positions& rest, double t, Eigen::Ref<Positions> out) const {
-    out = (rotation(t) * rest).colwise() + translation(t);
+    out.noalias() = rotation(t) * rest;  // into `out`: no temporary (called every step)
+    out.colwise() += translation(t);
   }
 };
 

@@ -110,7 +110,7 @@ ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<Ver
   std::vector<int>& parent = workspace.parent;
   std::vector<int>& members = workspace.members;
   std::vector<char>& in_zone = workspace.in_zone;
-  std::vector<CcdCollision>& collisions = workspace.collisions;
+  CcdCollisions& collisions = workspace.collisions;
   parent.resize(n);
   std::iota(parent.begin(), parent.end(), 0);
   in_zone.assign(n, 0);
@@ -125,7 +125,7 @@ ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<Ver
     }
 
     // Merge the vertices of every remaining collision into one zone (BFA 2002 section 7.4).
-    for (const CcdCollision& collision : collisions) {
+    for (const CcdCollision& collision : collisions.found) {
       const std::array<int, 4>& vertices = collision.stencil.vertices;
       for (int k = 0; k < 4; ++k) {
         unite(parent, vertices[0], vertices[k]);

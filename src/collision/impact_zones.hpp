@@ -18,7 +18,7 @@ struct ImpactZoneWorkspace {
   std::vector<int> parent;    // union-find forest over vertices (n_vertices)
   std::vector<int> members;   // vertices in zones of two or more, grouped by zone
   std::vector<char> in_zone;  // whether a vertex is listed in `members` (n_vertices)
-  std::vector<CcdCollision> collisions;
+  CcdCollisions collisions;
 };
 
 struct ImpactZoneResult {

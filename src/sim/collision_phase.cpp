@@ -412,7 +412,7 @@ void CollisionPhase::apply_ccd_impulses() {
       break;
     }
     start = Clock::now();
-    for (const CcdCollision& collision : collisions_) {
+    for (const CcdCollision& collision : collisions_.found) {
       ContactRecord record = ccd_contact_record(step, collision, 0.0, response);  // before the motion changes
       record.impulse = apply_ccd_impulse(step, collision, response);
       if (record.impulse > 0.0) {

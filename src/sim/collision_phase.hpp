@@ -215,7 +215,7 @@ class CollisionPhase {
   std::vector<std::vector<EdgeEdgePair>> group_edge_edges_;
   std::vector<char> near_vertex_face_;
   std::vector<char> near_edge_edge_;
-  std::vector<CcdCollision> collisions_;
+  CcdCollisions collisions_;
   ImpactZoneWorkspace zone_workspace_;
   std::vector<ContactRecord> records_;
   CollisionPhaseStats stats_;
