@@ -52,6 +52,15 @@ void free(void* memory) { __libc_free(memory); }
 namespace weft {
 namespace {
 
+// Heap allocations made by the next `steps` steps of the world.
+long allocations_in_steps(World& world, int steps) {
+  allocations = 0;
+  counting = true;
+  for (int step = 0; step < steps; ++step) world.step();
+  counting = false;
+  return allocations.load();
+}
+
 class SteadyState : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(SteadyState, DrapeStepsAllocateNothing) {
@@ -74,11 +83,7 @@ TEST_P(SteadyState, DrapeStepsAllocateNothing) {
   // 1 s the cloth has settled on the sphere.
   for (int step = 0; step < 240; ++step) world.step();
   ASSERT_GT(world.last_step_stats().contacts, 0) << "the cloth lies on the sphere";
-  allocations = 0;
-  counting = true;
-  for (int step = 0; step < 20; ++step) world.step();
-  counting = false;
-  EXPECT_EQ(allocations.load(), 0) << "heap allocations in 20 steady-state steps";
+  EXPECT_EQ(allocations_in_steps(world, 20), 0) << "heap allocations in 20 steady-state steps";
 }
 
 INSTANTIATE_TEST_SUITE_P(LinearSolvers, SteadyState, ::testing::Values("conjugate_gradient", "cholesky"));
@@ -92,11 +97,7 @@ TEST(SteadyStateTumble, TumbleDryerStepsAllocateNothing) {
   World world = build_world(parse_scene(scene, "tumble_dryer.json"));
   for (int step = 0; step < 360; ++step) world.step();
   ASSERT_GT(world.last_step_stats().contacts, 0) << "the cloths lie in the drum";
-  allocations = 0;
-  counting = true;
-  for (int step = 0; step < 20; ++step) world.step();
-  counting = false;
-  EXPECT_EQ(allocations.load(), 0) << "heap allocations in 20 tumbling steps";
+  EXPECT_EQ(allocations_in_steps(world, 20), 0) << "heap allocations in 20 tumbling steps";
 }
 
 }  // namespace
