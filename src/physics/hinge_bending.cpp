@@ -128,8 +128,7 @@ Vector12d angle_gradient(const HingeFrame& h) {
 }  // namespace
 
 double hinge_bending_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3,
-                            const HingeRest& rest, double stiffness, Vector12d* gradient, Matrix12d* hessian,
-                            bool gauss_newton) {
+                            const HingeRest& rest, double stiffness, Vector12d* gradient, Matrix12d* hessian) {
   const HingeState state = hinge_state(x0, x1, x2, x3, rest, stiffness);
   const HingeFrame& h = state.frame;
   const double k = state.k, delta = state.delta;
@@ -144,9 +143,7 @@ double hinge_bending_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, cons
   if (gradient) *gradient = (2.0 * k * delta) * a;
 
   // H = 2 k (grad theta grad theta^T + delta hess theta); hess theta is the sum of the wings'.
-  if (hessian && gauss_newton) {
-    hessian->noalias() = (2.0 * k) * a * a.transpose();
-  } else if (hessian) {
+  if (hessian) {
     Matrix12d angle_hessian = Matrix12d::Zero();
     add_wing_hessian(h.e, h.u1, h.n1, 1.0, 2, h.l2, angle_hessian);
     add_wing_hessian(h.e, h.u2, h.n2, -1.0, 3, h.l2, angle_hessian);
@@ -204,8 +201,7 @@ double evaluate_hinge_bending(const BendingTerm& term, const Positions& x, Posit
     Matrix12d element_hessian;
     const double energy =
         hinge_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), term.rest[h], term.stiffness,
-                             gradient ? &element_gradient : nullptr, hessian ? &element_hessian : nullptr,
-                             /*gauss_newton=*/project);
+                             gradient ? &element_gradient : nullptr, hessian ? &element_hessian : nullptr);
     if (gradient) {
       for (int k = 0; k < 4; ++k) gradient->col(v[k]) += element_gradient.segment<3>(3 * k);
     }

@@ -36,14 +36,14 @@ double dihedral_angle(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3
 // continuous across theta = +-pi and jumps only at theta = rest_angle + pi). Fills the gradient
 // and the exact Hessian (vertices x0..x3 stacked) when not null. Where a triangle's height over
 // the edge is below 1e-8 |e| (or |e| = 0) the angle is ill-defined: the energy is still returned
-// but the gradient and Hessian are zero. With `gauss_newton` the Hessian is its PSD part
-// 2 k grad(theta) grad(theta)^T only (the dropped part is 2 k d hess(theta), small near the rest angle).
+// but the gradient and Hessian are zero.
 double hinge_bending_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3,
-                            const HingeRest& rest, double stiffness, Vector12d* gradient, Matrix12d* hessian,
-                            bool gauss_newton = false);
+                            const HingeRest& rest, double stiffness, Vector12d* gradient, Matrix12d* hessian);
 
-// The same energy and gradient with the Gauss-Newton Hessian in factored form: H = curvature *
-// angle_gradient angle_gradient^T (curvature = 2 k), for assembly without the 12x12 matrix.
+// The same energy and gradient with the Gauss-Newton Hessian, the exact one's PSD part
+// 2 k grad(theta) grad(theta)^T (the dropped part is 2 k d hess(theta), small near the rest
+// angle), in factored form: H = curvature * angle_gradient angle_gradient^T (curvature = 2 k),
+// for assembly without the 12x12 matrix.
 struct HingeGaussNewton {
   double energy;
   Vector12d gradient;
