@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "collision/edge_edge.hpp"
 #include "collision/point_triangle.hpp"
 #include "core/parallel_chunks.hpp"
 
@@ -114,40 +115,9 @@ bool vertex_face_separated(const SweptVertexBoxes& boxes, int v, const std::arra
   return separated_along<3, 1>(boxes, corners, {v}, (p - closest.closest) / closest.distance);
 }
 
-// From segment (p0, p1) to segment (q0, q1): the line through their closest points, from the
-// normal equations with each parameter clamped in turn (the textbook method, no endpoint search;
-// for near-parallel segments it still joins a point of each, and any direction is a sound axis).
-Vec3 segment_to_segment(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1) {
-  const Vec3 dp = p1 - p0, dq = q1 - q0, r = p0 - q0;
-  const double pp = dp.squaredNorm(), qq = dq.squaredNorm(), qr = dq.dot(r);
-  const auto unit = [](double v) { return std::clamp(v, 0.0, 1.0); };
-  double s = 0.0, t = 0.0;
-  if (!(pp > 0.0)) {
-    t = qq > 0.0 ? unit(qr / qq) : 0.0;
-  } else {
-    const double pr = dp.dot(r);
-    if (!(qq > 0.0)) {
-      s = unit(-pr / pp);
-    } else {
-      const double pq = dp.dot(dq);
-      const double denominator = pp * qq - pq * pq;
-      s = denominator > 0.0 ? unit((pq * qr - pr * qq) / denominator) : 0.0;
-      t = (pq * s + qr) / qq;
-      if (t < 0.0) {
-        t = 0.0;
-        s = unit(-pr / pp);
-      } else if (t > 1.0) {
-        t = 1.0;
-        s = unit((pq - pr) / pp);
-      }
-    }
-  }
-  return (q0 + t * dq) - (p0 + s * dp);
-}
-
 bool edge_edge_separated(const SweptVertexBoxes& boxes, const std::array<int, 2>& a, const std::array<int, 2>& b) {
-  const Vec3 between = segment_to_segment(box_center(boxes, a[0]), box_center(boxes, a[1]), box_center(boxes, b[0]),
-                                          box_center(boxes, b[1]));
+  const Vec3 between = edge_edge_offset(box_center(boxes, a[0]), box_center(boxes, a[1]), box_center(boxes, b[0]),
+                                        box_center(boxes, b[1]));
   const double distance = between.norm();
   if (!(distance > 0.0)) return false;
   return separated_along<2, 2>(boxes, a, b, between / distance);

@@ -1,5 +1,7 @@
 #include "collision/edge_edge.hpp"
 
+#include <algorithm>
+
 #include "collision/point_triangle.hpp"
 
 namespace weft {
@@ -47,6 +49,34 @@ EdgeEdgeClosest edge_edge_closest(const Vec3& a0, const Vec3& a1, const Vec3& b0
     if (s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0) keep_if_closer(a0, a1, b0, b1, s, t, best);
   }
   return best;
+}
+
+Vec3 edge_edge_offset(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1) {
+  const Vec3 da = a1 - a0, db = b1 - b0, r = a0 - b0;
+  const double aa = da.squaredNorm(), bb = db.squaredNorm(), br = db.dot(r);
+  const auto unit = [](double v) { return std::clamp(v, 0.0, 1.0); };
+  double s = 0.0, t = 0.0;
+  if (!(aa > 0.0)) {
+    t = bb > 0.0 ? unit(br / bb) : 0.0;
+  } else {
+    const double ar = da.dot(r);
+    if (!(bb > 0.0)) {
+      s = unit(-ar / aa);
+    } else {
+      const double ab = da.dot(db);
+      const double denominator = aa * bb - ab * ab;
+      s = denominator > 0.0 ? unit((ab * br - ar * bb) / denominator) : 0.0;
+      t = (ab * s + br) / bb;
+      if (t < 0.0) {
+        t = 0.0;
+        s = unit(-ar / aa);
+      } else if (t > 1.0) {
+        t = 1.0;
+        s = unit((ab - ar) / aa);
+      }
+    }
+  }
+  return (b0 + t * db) - (a0 + s * da);
 }
 
 }  // namespace weft

@@ -16,4 +16,10 @@ struct EdgeEdgeClosest {
 // pairs (an endpoint of one of them); a zero-length segment acts as a point.
 EdgeEdgeClosest edge_edge_closest(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1);
 
+// From a point of segment (a0, a1) to a point of segment (b0, b1): the closest pair, from the
+// normal equations with each parameter clamped in turn (no endpoint search, no square root).
+// Exact where edge_edge_closest's interior case is; for near-parallel segments it may join a
+// pair that is not the closest. The candidate filter's cheap axis.
+Vec3 edge_edge_offset(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1);
+
 }  // namespace weft

@@ -1,9 +1,10 @@
 // Closest points of two segments: crossing, skew, parallel (overlapping or not), zero-length,
-// and random segments against dense sampling.
+// and random segments against dense sampling; edge_edge_offset against them.
 #include "collision/edge_edge.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 namespace weft {
@@ -87,6 +88,13 @@ TEST(EdgeEdge, RandomSegmentsNeverBeatenByDenseSampling) {
     }
     ASSERT_LE(r.distance, best + 1e-12) << trial;
     ASSERT_GE(r.distance, best - (a1 - a0).norm() / samples) << trial;
+    // The cheap offset joins a point of each segment, so it is never shorter than the closest
+    // pair, and it is that pair wherever the segments are clearly not parallel.
+    const double offset = edge_edge_offset(a0, a1, b0, b1).norm();
+    ASSERT_GE(offset, r.distance - 1e-12) << trial;
+    if (trial % 3 == 0) {
+      ASSERT_NEAR(offset, r.distance, 1e-12) << trial;
+    }
   }
 }
 
