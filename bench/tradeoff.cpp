@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "io/gnuplot_quote.hpp"
 #include "io/scene_builder.hpp"
 #include "io/scene_file.hpp"
 #include "sim/stability.hpp"
@@ -83,12 +84,6 @@ Run simulate(SceneDesc scene, IntegratorKind integrator, double h, double durati
   run.wall_seconds = seconds;
   run.x = all_positions(world);
   return run;
-}
-
-std::string gp_quote(const std::string& text) {
-  std::string quoted = "'";
-  for (const char c : text) quoted += c == '\'' ? std::string("''") : std::string(1, c);
-  return quoted + "'";
 }
 
 int usage() {
@@ -162,11 +157,11 @@ int main(int argc, char** argv) {
     const std::string script = (fs::path(out) / "pareto.gp").string();
     std::ofstream gp(script);
     gp << "set terminal pngcairo size 900,600 noenhanced\n"
-       << "set output " << gp_quote(png) << "\n"
+       << "set output " << gnuplot_quote(png) << "\n"
        << "set datafile separator ','\n"
        << "set logscale xy\n"
        << "set grid\n"
-       << "set title " << gp_quote("speed/accuracy on " + scene.name + " (stable runs; labels: 1/h)") << "\n"
+       << "set title " << gnuplot_quote("speed/accuracy on " + scene.name + " (stable runs; labels: 1/h)") << "\n"
        << "set xlabel 'wall seconds per simulated second (1 thread)'\n"
        << "set ylabel 'largest position error at t = " << duration << " s (m)'\n"
        << "set key top right\n"
@@ -174,8 +169,8 @@ int main(int argc, char** argv) {
     const char* names[] = {"symplectic_euler", "midpoint", "implicit_euler", "xpbd"};
     for (int k = 0; k < 4; ++k) {
       const std::string filter = "(strcol(1) eq '" + std::string(names[k]) + "' && strcol(7) eq 'yes' ? ";
-      gp << (k ? ", \\\n     " : "") << gp_quote(csv_path) << " every ::1 using " << filter << "$3 : NaN):4 with linespoints pt "
-         << (k + 5) << " title '" << names[k] << "', \\\n     " << gp_quote(csv_path) << " every ::1 using " << filter
+      gp << (k ? ", \\\n     " : "") << gnuplot_quote(csv_path) << " every ::1 using " << filter << "$3 : NaN):4 with linespoints pt "
+         << (k + 5) << " title '" << names[k] << "', \\\n     " << gnuplot_quote(csv_path) << " every ::1 using " << filter
          << "$3 : NaN):4:(sprintf('%.0f', 1/$2)) with labels offset 0.8,0.6 font ',7' notitle";
     }
     gp << "\n";

@@ -13,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
+#include "io/gnuplot_quote.hpp"
 
 extern char** environ;
 
@@ -21,13 +22,6 @@ namespace weft {
 namespace {
 
 namespace fs = std::filesystem;
-
-// gnuplot's single-quoted string: a quote doubles.
-std::string gp_quote(const std::string& text) {
-  std::string quoted = "'";
-  for (const char c : text) quoted += c == '\'' ? std::string("''") : std::string(1, c);
-  return quoted + "'";
-}
 
 struct Series {
   std::string title;
@@ -41,21 +35,21 @@ std::string plot_commands(const std::string& png, const std::string& title, cons
                           bool skip_first_frame) {
   std::ostringstream s;
   s << "set terminal pngcairo size 1000,600 noenhanced\n"
-    << "set output " << gp_quote(png) << "\n"
+    << "set output " << gnuplot_quote(png) << "\n"
     << "set datafile separator ','\n"
     << "set datafile columnheaders\n"
-    << "set title " << gp_quote(title) << "\n"
+    << "set title " << gnuplot_quote(title) << "\n"
     << "set xlabel 'frame'\n"
-    << "set ylabel " << gp_quote(ylabel) << "\n"
+    << "set ylabel " << gnuplot_quote(ylabel) << "\n"
     << "set grid\n"
     << "set key outside right\n"
     << "plot ";
   bool first = true;
   for (const Series& run : runs) {
     for (const auto& [expression, label] : columns) {
-      s << (first ? "" : ", \\\n     ") << gp_quote(run.csv) << " using (column('frame')):(" << expression
+      s << (first ? "" : ", \\\n     ") << gnuplot_quote(run.csv) << " using (column('frame')):(" << expression
         << ")" << (skip_first_frame ? " every ::1" : "") << " with lines title "
-        << gp_quote(runs.size() > 1 ? run.title + " " + label : label);
+        << gnuplot_quote(runs.size() > 1 ? run.title + " " + label : label);
       first = false;
     }
   }

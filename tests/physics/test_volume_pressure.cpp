@@ -11,33 +11,13 @@
 #include <vector>
 
 #include "core/mesh_generators.hpp"
+#include "support/taylor.hpp"
 
 namespace weft {
 namespace {
 
-// Ratios of successive Taylor remainders as the step halves; a second-order remainder gives 1/4.
-template <class Remainder>
-std::vector<double> halving_ratios(const Remainder& remainder, double first_step, int halvings) {
-  std::vector<double> ratios;
-  double previous = remainder(first_step);
-  for (int k = 1; k <= halvings; ++k) {
-    const double current = remainder(first_step / (1 << k));
-    ratios.push_back(current / previous);
-    previous = current;
-  }
-  return ratios;
-}
-
-::testing::AssertionResult all_near_quarter(const std::vector<double>& ratios) {
-  std::ostringstream text;
-  bool ok = ratios.size() >= 4;
-  for (double r : ratios) {
-    text << r << " ";
-    ok = ok && std::abs(r - 0.25) <= 0.03;
-  }
-  if (ok) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "remainder ratios " << text.str();
-}
+using weft::testing::all_near_quarter;
+using weft::testing::halving_ratios;
 
 double volume_of(const Vector9d& q, Vector9d* gradient = nullptr, Matrix9d* hessian = nullptr) {
   return triangle_signed_volume(q.segment<3>(0), q.segment<3>(3), q.segment<3>(6), gradient, hessian);
