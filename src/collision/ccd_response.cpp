@@ -7,6 +7,7 @@
 
 #include "collision/edge_edge_ccd.hpp"
 #include "collision/vertex_face_ccd.hpp"
+#include "core/parallel_chunks.hpp"
 
 namespace weft {
 
@@ -113,9 +114,8 @@ void detect_collisions(const CollisionStep& step, const std::vector<VertexFacePa
     if (thread == 0) threads = count;
     std::vector<CcdCollision>& found = collisions.thread_found[thread];
     found.clear();
-    const int begin = static_cast<int>(static_cast<long long>(total) * thread / count);
-    const int end = static_cast<int>(static_cast<long long>(total) * (thread + 1) / count);
-    for (int k = begin; k < end; ++k) {
+    const int end = chunk_begin(thread + 1, total, count);
+    for (int k = chunk_begin(thread, total, count); k < end; ++k) {
       const std::optional<CcdCollision> collision =
           k < num_vertex_faces ? detect_collision(step, vertex_faces[k], settings)
                                : detect_collision(step, edge_edges[k - num_vertex_faces], settings);

@@ -8,7 +8,6 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <random>
-#include <sstream>
 #include <vector>
 
 #include "core/mesh_generators.hpp"

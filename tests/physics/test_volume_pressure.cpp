@@ -7,7 +7,6 @@
 
 #include <cmath>
 #include <random>
-#include <sstream>
 #include <vector>
 
 #include "core/mesh_generators.hpp"
