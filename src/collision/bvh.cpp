@@ -408,14 +408,16 @@ void find_triangles_in_box(const Bvh& bvh, const Aabb& box, std::vector<int>& tr
 }
 
 void find_pairs_of(const Bvh& first, const std::vector<int>& triangles, const Bvh& second, bool same_mesh,
-                   std::vector<TrianglePair>& pairs, std::vector<int>& scratch) {
+                   std::vector<TrianglePair>& pairs, std::vector<int>& scratch,
+                   SharedVertexPairs shared_vertex_pairs) {
+  const bool keep_neighbours = shared_vertex_pairs == SharedVertexPairs::keep;
   pairs.clear();
   for (const int a : triangles) {
     find_triangles_in_box(second, first.triangle_boxes()[a], scratch);
     for (const int b : scratch) {
       if (!same_mesh) {
         pairs.push_back({a, b});
-      } else if (a != b && !share_vertex(first.triangles(), a, b)) {
+      } else if (a != b && (keep_neighbours || !share_vertex(first.triangles(), a, b))) {
         pairs.push_back({std::min(a, b), std::max(a, b)});
       }
     }

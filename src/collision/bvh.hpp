@@ -137,8 +137,9 @@ struct BvhQueryBuffers {
 // Whether a self query reports pairs of triangles that share a vertex. Skipping them (the
 // default) drops every neighbour pair, but it also drops the vertex-face and edge-edge pairs
 // within two rings of each other that only neighbouring triangles carry, e.g. the far vertex of
-// a hinge folding flat onto the other triangle. `keep` reports them (about 6 more pairs per
-// triangle on a grid); add_self_candidates() then skips only primitives that share a vertex.
+// a hinge folding flat onto the other triangle, or a hem folding through the row next to it.
+// `keep` reports them (about 6 more pairs per triangle on a grid); add_self_candidates() then
+// skips only primitives that share a vertex. The collision phase keeps them.
 enum class SharedVertexPairs { skip, keep };
 
 // Pairs of triangles of one mesh whose boxes overlap; each pair once with a < b, sorted.
@@ -158,12 +159,13 @@ std::vector<TrianglePair> find_pairs_between(const Bvh& first, const Bvh& second
 
 // Pairs of the listed triangles of `first` with the triangles of `second` whose boxes overlap
 // theirs (boxes of the last build or refit), as (a of first, b of second), sorted and each once.
-// With `same_mesh` (`second` is `first`) a triangle is not paired with itself nor, as in
-// find_self_pairs' default, with one it shares a vertex with, and pairs are (min, max). For
-// re-querying the few triangles whose motion changed after the full query. Single-threaded;
+// With `same_mesh` (`second` is `first`) a triangle is not paired with itself nor, unless
+// `shared_vertex_pairs` keeps them, with one it shares a vertex with, and pairs are (min, max).
+// For re-querying the few triangles whose motion changed after the full query. Single-threaded;
 // replaces `pairs`, `scratch` is the per-triangle result.
 void find_pairs_of(const Bvh& first, const std::vector<int>& triangles, const Bvh& second, bool same_mesh,
-                   std::vector<TrianglePair>& pairs, std::vector<int>& scratch);
+                   std::vector<TrianglePair>& pairs, std::vector<int>& scratch,
+                   SharedVertexPairs shared_vertex_pairs = SharedVertexPairs::skip);
 
 // Triangles whose boxes overlap `box` (picking, analytic colliders), sorted. Single-threaded,
 // no stack: replaces the contents of `triangles` and allocates only if it must grow.

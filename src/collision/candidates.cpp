@@ -123,39 +123,18 @@ bool edge_edge_separated(const SweptVertexBoxes& boxes, const std::array<int, 2>
   return separated_along<2, 2>(boxes, a, b, between / distance);
 }
 
-// Whether triangle s, one of those around vertex v of `mesh`, is v's designated triangle against
-// triangle t (TrianglePairList::complete): the first around v that shares no vertex with t when
-// `self` (t of the same mesh), else simply the first.
-template <bool self>
-bool designates_vertex(const CandidateMesh& mesh, int v, int s, int t) {
-  const std::vector<int>& around = mesh.topology.vertex_triangles;
-  const int begin = mesh.topology.vertex_triangle_start[v];
-  if (!self) return around[begin] == s;
-  const int end = mesh.topology.vertex_triangle_start[v + 1];
-  for (int k = begin; k < end; ++k) {
-    if (!share_vertex(mesh.triangles, around[k], t)) return around[k] == s;
-  }
-  return false;
+// Whether triangle s, one of those around vertex v, is v's designated triangle against any
+// triangle t (TrianglePairList::complete): the first around v. Within one mesh t is not around v
+// (v is not its corner), so the pair (s, t) is two different triangles that a query keeping
+// shared-vertex pairs reports.
+bool designates_vertex(const CandidateMesh& mesh, int v, int s) {
+  return mesh.topology.vertex_triangles[mesh.topology.vertex_triangle_start[v]] == s;
 }
 
 // Whether (s, t) is the designated pair of edge e (a side of s) against edge f (a side of t):
-// their first triangles between two meshes; within one, the least (min, max) pair of a triangle
-// at e and one at f that share no vertex.
-template <bool self>
+// their first triangles. Within one mesh e and f share no end, so no triangle is at both.
 bool designates_edges(const CandidateMesh& first, const CandidateMesh& second, int e, int f, int s, int t) {
-  const Eigen::Matrix2Xi& at_e = first.topology.edge_triangles;
-  const Eigen::Matrix2Xi& at_f = second.topology.edge_triangles;
-  if (!self) return at_e(0, e) == s && at_f(0, f) == t;
-  constexpr int none = std::numeric_limits<int>::max();
-  TrianglePair least{none, none};
-  for (int i = 0; i < 2; ++i) {
-    for (int j = 0; j < 2; ++j) {
-      const int a = at_e(i, e), b = at_f(j, f);
-      if (a < 0 || b < 0 || a == b || share_vertex(first.triangles, a, b)) continue;
-      least = std::min(least, TrianglePair{std::min(a, b), std::max(a, b)});
-    }
-  }
-  return least == TrianglePair{std::min(s, t), std::max(s, t)};
+  return first.topology.edge_triangles(0, e) == s && second.topology.edge_triangles(0, f) == t;
 }
 
 // Appends the candidates of triangle s of `first` against triangle t of `second`. With `self`
@@ -179,13 +158,13 @@ void append_pair_candidates(int s, int t, const CandidateMesh& first, const Cand
   // Vertex-face: each corner of one triangle against the other triangle.
   for (int k = 0; k < 3; ++k) {
     const int v = triangles_s(k, s);
-    if ((!self || !has_corner(triangles_t, t, v)) && (!designated || designates_vertex<self>(first, v, s, t)) &&
+    if ((!self || !has_corner(triangles_t, t, v)) && (!designated || designates_vertex(first, v, s)) &&
         within_gap(box_of<1>(boxes, {vs + v}), box_t, gap) &&
         !(boxes && vertex_face_separated(*boxes, vs + v, corners_t))) {
       vertex_faces.push_back({vs + v, second.offsets.triangle + t});
     }
     const int w = triangles_t(k, t);
-    if ((!self || !has_corner(triangles_s, s, w)) && (!designated || designates_vertex<self>(second, w, t, s)) &&
+    if ((!self || !has_corner(triangles_s, s, w)) && (!designated || designates_vertex(second, w, t)) &&
         within_gap(box_of<1>(boxes, {vt + w}), box_s, gap) &&
         !(boxes && vertex_face_separated(*boxes, vt + w, corners_s))) {
       vertex_faces.push_back({vt + w, first.offsets.triangle + s});
@@ -195,14 +174,14 @@ void append_pair_candidates(int s, int t, const CandidateMesh& first, const Cand
   // Edge-edge: each side of one against each side of the other, unless they share an end.
   for (int i = 0; i < 3; ++i) {
     const int edge_s = first.topology.triangle_edges(i, s);
-    if (!self && designated && first.topology.edge_triangles(0, edge_s) != s) continue;
+    if (designated && first.topology.edge_triangles(0, edge_s) != s) continue;
     const int a0 = first.topology.edges(0, edge_s), a1 = first.topology.edges(1, edge_s);
     const Box box_a = box_of<2>(boxes, {vs + a0, vs + a1});
     for (int j = 0; j < 3; ++j) {
       const int edge_t = second.topology.triangle_edges(j, t);
       const int b0 = second.topology.edges(0, edge_t), b1 = second.topology.edges(1, edge_t);
       if (self && (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1)) continue;
-      if (designated && !designates_edges<self>(first, second, edge_s, edge_t, s, t)) continue;
+      if (designated && !designates_edges(first, second, edge_s, edge_t, s, t)) continue;
       if (!within_gap(box_a, box_of<2>(boxes, {vt + b0, vt + b1}), gap)) continue;
       if (boxes && edge_edge_separated(*boxes, {vs + a0, vs + a1}, {vt + b0, vt + b1})) continue;
       const int a = first.offsets.edge + edge_s;

@@ -72,13 +72,13 @@ struct CollisionCandidates {
 //  - `complete`: the pairs hold the designated triangle pair of every primitive pair whose boxes
 //    pass the filter (`mesh.boxes`, required), and only that pair writes it, so each is written
 //    once. The designated pair of vertex v against triangle t is (the first triangle around v, in
-//    index order, that shares no vertex with t — between two meshes simply the first —, t); of
-//    edge e against edge f, (the first triangle at e, the first at f) between two meshes, and
-//    within one the least (min, max) pair of a triangle at e and one at f that share no vertex.
-//    A triangle's swept box holds its corners' boxes, so a query over triangle boxes inflated by
-//    gap/2 (find_self_pairs' default, no culling; find_pairs_between) finds the designated pair
-//    of every primitive pair within the gap; so does find_pairs_of for every primitive pair with
-//    a vertex of a listed triangle's. Self candidates of a mesh with non-manifold edges are
+//    index order, t); of edge e against edge f, (the first triangle at e, the first at f). Within
+//    one mesh these two triangles may share a vertex, so self pairs must come from a query that
+//    keeps shared-vertex pairs (SharedVertexPairs::keep). A triangle's swept box holds its
+//    corners' boxes, so a query over triangle boxes inflated by gap/2 (find_self_pairs keeping
+//    shared-vertex pairs, no culling; find_pairs_between) finds the designated pair of every
+//    primitive pair within the gap; so does find_pairs_of (keeping them) for every primitive pair
+//    with a vertex of a listed triangle's. Self candidates of a mesh with non-manifold edges are
 //    written as with `any` (its topology keeps only two triangles an edge).
 enum class TrianglePairList { any, complete };
 

@@ -254,26 +254,77 @@ Vec3 corner(const CheckedMesh& mesh, int triangle, int k) {
   return mesh.positions->col((*mesh.triangles)(k, triangle));
 }
 
-// Whether the pair is checked at all: triangles of one mesh sharing a vertex are neighbours,
-// whose contact along the shared part is the mesh itself.
-bool adjacent(const std::vector<CheckedMesh>& meshes, int mesh_a, int triangle_a, int mesh_b,
-              int triangle_b) {
-  if (mesh_a != mesh_b) return false;
-  const Triangles& triangles = *meshes[mesh_a].triangles;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      if (triangles(i, triangle_a) == triangles(j, triangle_b)) return true;
-    }
-  }
-  return false;
+// Corner k of triangle t of `mesh` as a vertex index.
+int corner_index(const CheckedMesh& mesh, int triangle, int k) { return (*mesh.triangles)(k, triangle); }
+
+// Triangles (v, a, b) and (v, c, d) that share the vertex v and no other meet somewhere other
+// than at v iff the side opposite v of one meets the other triangle. Their intersection I is
+// convex and holds v; if it holds a point p != v, follow the ray from v through p to where it
+// leaves I, at q on the boundary of one triangle, say (v, a, b). If q is on [a, b], done. If q
+// is on [v, a] (or [v, b]), the ray runs along that side, and I ends at q because either the
+// side ends there (q = a, on [a, b]) or the other triangle does: then q is on [c, d], or on
+// [v, c] / [v, d] running the same way, where it ends at c or d, on [c, d].
+bool meet_beyond_shared_vertex(const Vec3& v, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  return segment_intersects_triangle(a, b, v, c, d) || segment_intersects_triangle(c, d, v, a, b);
 }
 
+// Triangles (v, w, a) and (v, w, b) that share the side [v, w] meet beyond it iff they are
+// coplanar and a, b lie on the same side of the line vw (they overlap with area); otherwise the
+// other's plane cuts each triangle in [v, w] alone. A degenerate triangle (a on the line vw)
+// counts when its far corner lies in the other triangle.
+bool meet_beyond_shared_edge(const Vec3& v, const Vec3& w, const Vec3& a, const Vec3& b) {
+  if (orient3d(v, w, a, b) != 0) return false;
+  const int axis = coplanar_drop_axis({v, w, a, b});
+  const Vec2 v2 = project(v, axis), w2 = project(w, axis), a2 = project(a, axis), b2 = project(b, axis);
+  const int side_a = orient2d(v2, w2, a2), side_b = orient2d(v2, w2, b2);
+  if (side_a != 0 && side_b != 0) return side_a == side_b;
+  if (side_a == 0 && side_b == 0) return true;  // two segments along vw: counted
+  return side_a == 0 ? point_in_triangle_2d(a2, v2, w2, b2) : point_in_triangle_2d(b2, v2, w2, a2);
+}
+
+// Whether two triangles intersect by the standard definition (CGAL's self-intersection test):
+// triangles of one mesh that share a vertex intersect when they meet anywhere other than at that
+// vertex, those that share a side when they meet anywhere other than along that side, and a
+// triangle listed twice (all three corners shared) always. Triangles of different meshes share
+// nothing.
 bool mesh_triangles_intersect(const std::vector<CheckedMesh>& meshes, int mesh_a, int triangle_a, int mesh_b,
                               int triangle_b) {
   const CheckedMesh& a = meshes[mesh_a];
   const CheckedMesh& b = meshes[mesh_b];
-  return triangles_intersect(corner(a, triangle_a, 0), corner(a, triangle_a, 1), corner(a, triangle_a, 2),
-                             corner(b, triangle_b, 0), corner(b, triangle_b, 1), corner(b, triangle_b, 2));
+  // match_in_b[i]: the corner of b that is corner i of a, or -1.
+  std::array<int, 3> match_in_b = {-1, -1, -1};
+  int num_shared = 0;
+  if (mesh_a == mesh_b) {
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        if (corner_index(a, triangle_a, i) == corner_index(b, triangle_b, j)) {
+          match_in_b[i] = j;
+          ++num_shared;
+        }
+      }
+    }
+  }
+  const Vec3 p0 = corner(a, triangle_a, 0), p1 = corner(a, triangle_a, 1), p2 = corner(a, triangle_a, 2);
+  if (num_shared == 0) return triangles_intersect(p0, p1, p2, corner(b, triangle_b, 0), corner(b, triangle_b, 1),
+                                                  corner(b, triangle_b, 2));
+  if (num_shared == 3) return true;
+
+  // Rotate both triangles so that the shared corners come first.
+  int first_shared = 0;
+  while (match_in_b[first_shared] < 0 || (num_shared == 2 && match_in_b[(first_shared + 2) % 3] >= 0)) {
+    ++first_shared;
+  }
+  const std::array<Vec3, 3> pa = {corner(a, triangle_a, first_shared), corner(a, triangle_a, (first_shared + 1) % 3),
+                                   corner(a, triangle_a, (first_shared + 2) % 3)};
+  const int v_in_b = match_in_b[first_shared];
+  if (num_shared == 1) {
+    return meet_beyond_shared_vertex(pa[0], pa[1], pa[2], corner(b, triangle_b, (v_in_b + 1) % 3),
+                                     corner(b, triangle_b, (v_in_b + 2) % 3));
+  }
+  // Two shared: pa[0], pa[1] are the shared side; b's third corner is the one matched by neither.
+  const int w_in_b = match_in_b[(first_shared + 1) % 3];
+  const int other_in_b = 3 - v_in_b - w_in_b;
+  return meet_beyond_shared_edge(pa[0], pa[1], pa[2], corner(b, triangle_b, other_in_b));
 }
 
 TriangleIntersection ordered(int mesh_a, int triangle_a, int mesh_b, int triangle_b) {
@@ -369,7 +420,6 @@ std::vector<TriangleIntersection> find_triangle_intersections(const std::vector<
     for (std::size_t j = i + 1; j < items.size() && items[j].lower[axis] <= x.upper[axis]; ++j) {
       const BoundedTriangle& y = items[j];
       if ((x.upper.array() < y.lower.array()).any() || (y.upper.array() < x.lower.array()).any()) continue;
-      if (adjacent(meshes, x.mesh, x.triangle, y.mesh, y.triangle)) continue;
       if (mesh_triangles_intersect(meshes, x.mesh, x.triangle, y.mesh, y.triangle)) {
         found.push_back(ordered(x.mesh, x.triangle, y.mesh, y.triangle));
       }
@@ -394,7 +444,6 @@ std::vector<TriangleIntersection> find_triangle_intersections_brute_force(
       for (int mesh_b = mesh_a; mesh_b < num_meshes; ++mesh_b) {
         const int first_b = mesh_b == mesh_a ? triangle_a + 1 : 0;
         for (int triangle_b = first_b; triangle_b < meshes[mesh_b].triangles->cols(); ++triangle_b) {
-          if (adjacent(meshes, mesh_a, triangle_a, mesh_b, triangle_b)) continue;
           if (mesh_triangles_intersect(meshes, mesh_a, triangle_a, mesh_b, triangle_b)) {
             found.push_back({mesh_a, triangle_a, mesh_b, triangle_b});
           }

@@ -48,8 +48,11 @@ struct TriangleIntersection {
   bool operator<(const TriangleIntersection& other) const;
 };
 
-// Every intersecting pair of triangles among `meshes`, sorted: pairs within one mesh that share
-// no vertex, and all pairs between different meshes. Candidates come from a sort-and-sweep of
+// Every intersecting pair of triangles among `meshes`, sorted, by the standard definition (the
+// one of CGAL's self-intersection test): two triangles of one mesh that share a vertex intersect
+// when they meet anywhere other than at that vertex, two that share a side when they meet
+// anywhere other than along that side (they overlap in their common plane), a triangle listed
+// twice always; triangles of different meshes share nothing. Candidates come from a sort-and-sweep of
 // the triangles' bounding boxes along their widest axis. Throws std::invalid_argument on a
 // null mesh, an index out of range or a coordinate that is not finite.
 std::vector<TriangleIntersection> find_triangle_intersections(const std::vector<CheckedMesh>& meshes);

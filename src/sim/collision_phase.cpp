@@ -161,8 +161,8 @@ void CollisionPhase::refit_bounding_volumes() {
 
 // Triangle pairs whose swept boxes overlap (self, cloth-cloth, cloth-collider; colliders never
 // meet each other), turned into primitive pairs; pairs of infinite-mass vertices only are dropped.
-// Self pairs of triangles that share a vertex are skipped: a fold between neighbours that goes
-// through the cloth also brings non-adjacent triangles together, and those pairs are tested.
+// Self pairs of triangles that share a vertex are kept: a hem folding through the row next to
+// it meets only triangles that share a vertex with its own (docs/collision.md).
 void CollisionPhase::query_candidates(CollisionCandidates& candidates) {
   candidates.clear();
   vertex_lower_.noalias() = x_start_.cwiseMin(x_end_);
@@ -175,7 +175,7 @@ void CollisionPhase::query_candidates(CollisionCandidates& candidates) {
     MeshSlot& cloth = meshes_[c];
     if (materials_[c].self_collision) {
       cloth.culling.update(cloth.bvh, x_start_, x_end_, max_thickness_, settings.self_culling);
-      find_self_pairs(cloth.bvh, buffers_, pairs_, SharedVertexPairs::skip, &cloth.culling.culled());
+      find_self_pairs(cloth.bvh, buffers_, pairs_, SharedVertexPairs::keep, &cloth.culling.culled());
       append_self_candidates(pairs_, candidate_mesh(cloth), candidates, self_pair_list());
     }
     for (size_t other = c + 1; other < meshes_.size(); ++other) {
@@ -534,7 +534,7 @@ void CollisionPhase::query_escaped_candidates(CollisionCandidates& candidates) {
     }
     if (escaped_triangles_.empty()) continue;
     if (materials_[c].self_collision) {
-      find_pairs_of(cloth.bvh, escaped_triangles_, cloth.bvh, true, pairs_, box_triangles_);
+      find_pairs_of(cloth.bvh, escaped_triangles_, cloth.bvh, true, pairs_, box_triangles_, SharedVertexPairs::keep);
       append_self_candidates(pairs_, candidate_mesh(cloth), candidates, self_pair_list());
     }
     for (size_t other = 0; other < meshes_.size(); ++other) {

@@ -380,12 +380,12 @@ SweptGrid swept_grid(int n, unsigned seed, const Vec3& shift, double gap) {
 
 struct TwoSweptGrids {
   static constexpr double gap = 0.02;
-  SweptGrid a = swept_grid(24, 3, Vec3::Zero(), gap);
-  SweptGrid b = swept_grid(16, 4, Vec3(0.2, 0.3, 0.05), gap);
+  SweptGrid a, b;
   Positions lower, upper;  // combined vertex boxes: a's vertices, then b's
   MeshIndexOffsets offsets_b;
 
-  TwoSweptGrids() {
+  TwoSweptGrids() : TwoSweptGrids(swept_grid(24, 3, Vec3::Zero(), gap), swept_grid(16, 4, Vec3(0.2, 0.3, 0.05), gap)) {}
+  TwoSweptGrids(SweptGrid first, SweptGrid second) : a(std::move(first)), b(std::move(second)) {
     const int na = a.mesh.num_vertices(), nb = b.mesh.num_vertices();
     lower.resize(3, na + nb);
     upper.resize(3, na + nb);
@@ -401,7 +401,7 @@ CollisionCandidates full_query(const TwoSweptGrids& grids, TrianglePairList list
   const CandidateMesh mesh_a{grids.a.mesh.triangles, grids.a.topology, {}, &boxes};
   const CandidateMesh mesh_b{grids.b.mesh.triangles, grids.b.topology, grids.offsets_b, &boxes};
   CollisionCandidates candidates;
-  append_self_candidates(find_self_pairs(grids.a.bvh), mesh_a, candidates, list);
+  append_self_candidates(find_self_pairs(grids.a.bvh, SharedVertexPairs::keep), mesh_a, candidates, list);
   append_candidates_between(find_pairs_between(grids.a.bvh, grids.b.bvh), mesh_a, mesh_b, candidates, list);
   sort_candidates(candidates);
   return candidates;
@@ -424,7 +424,7 @@ TEST(Candidates, CompleteListsWriteEachPrimitivePairOnceAndTheSameSet) {
   const SweptVertexBoxes boxes{grids.lower, grids.upper, grids.gap};
   const CandidateMesh mesh_a{grids.a.mesh.triangles, grids.a.topology, {}, &boxes};
   const CandidateMesh mesh_b{grids.b.mesh.triangles, grids.b.topology, grids.offsets_b, &boxes};
-  const std::vector<TrianglePair> self_pairs = find_self_pairs(grids.a.bvh);
+  const std::vector<TrianglePair> self_pairs = find_self_pairs(grids.a.bvh, SharedVertexPairs::keep);
   const std::vector<TrianglePair> between_pairs = find_pairs_between(grids.a.bvh, grids.b.bvh);
   ASSERT_GT(self_pairs.size(), 500u);
   ASSERT_GT(between_pairs.size(), 500u);
@@ -470,7 +470,7 @@ TEST(Candidates, ReQueryOfListedTrianglesFindsEveryPairOfTheirVertices) {
   std::vector<TrianglePair> pairs;
   std::vector<int> scratch;
   CollisionCandidates requery;
-  find_pairs_of(grids.a.bvh, listed, grids.a.bvh, true, pairs, scratch);
+  find_pairs_of(grids.a.bvh, listed, grids.a.bvh, true, pairs, scratch, SharedVertexPairs::keep);
   append_self_candidates(pairs, mesh_a, requery, TrianglePairList::complete);
   find_pairs_of(grids.a.bvh, listed, grids.b.bvh, false, pairs, scratch);
   append_candidates_between(pairs, mesh_a, mesh_b, requery, TrianglePairList::complete);
@@ -518,12 +518,12 @@ Positions positions_in_boxes(const Positions& lower, const Positions& upper, dou
   return x;
 }
 
-TEST(Candidates, EveryPairThatComesWithinTheGapInsideItsBoxesIsACandidate) {
-  // What CollisionPhase::verify_motion relies on: with every vertex within `slack` (per
-  // coordinate) of its box, a primitive pair closer than gap - 2 slack is a candidate. Checked
-  // on positions drawn in the grown boxes, over every vertex-face and edge-edge pair of the two
-  // crumpled grids (self pairs without shared vertices, and between the grids).
-  const TwoSweptGrids grids;
+// What CollisionPhase::verify_motion relies on: with every vertex within `slack` (per
+// coordinate) of its box, a primitive pair closer than gap - 2 slack is a candidate. Checked by
+// brute force on positions drawn in the grown boxes, over every vertex-face pair whose vertex is
+// not a corner of the face and every edge-edge pair without a common vertex, within grid a
+// (neighbours included) and between the grids. Returns the number of close pairs seen.
+int expect_every_close_pair_is_a_candidate(const TwoSweptGrids& grids, unsigned seed) {
   const CollisionCandidates candidates = full_query(grids, TrianglePairList::complete);
 
   const int na = grids.a.mesh.num_vertices();
@@ -532,27 +532,7 @@ TEST(Candidates, EveryPairThatComesWithinTheGapInsideItsBoxesIsACandidate) {
   Eigen::Matrix2Xi edges(2, grids.a.topology.num_edges() + grids.b.topology.num_edges());
   edges << grids.a.topology.edges, grids.b.topology.edges.array() + na;
   const auto mesh_of = [&](int v) { return v < na ? 0 : 1; };
-  // Self pairs come from triangle pairs without a shared vertex (see query_candidates): a vertex
-  // against a face when a triangle around it shares no vertex with the face, two edges when a
-  // triangle at each does.
-  const MeshTopology& topology = grids.a.topology;
-  const Triangles& own = grids.a.mesh.triangles;
-  const auto self_vertex_face = [&](int v, int t) {
-    for (int k = topology.vertex_triangle_start[v]; k < topology.vertex_triangle_start[v + 1]; ++k) {
-      if (!share_vertex(own, topology.vertex_triangles[k], t)) return true;
-    }
-    return false;
-  };
-  const auto self_edge_edge = [&](int e, int f) {
-    for (int i = 0; i < 2; ++i) {
-      for (int j = 0; j < 2; ++j) {
-        const int a = topology.edge_triangles(i, e), b = topology.edge_triangles(j, f);
-        if (a >= 0 && b >= 0 && !share_vertex(own, a, b)) return true;
-      }
-    }
-    return false;
-  };
-  std::mt19937 rng(11);
+  std::mt19937 rng(seed);
   int close_pairs = 0;
   for (const double slack : {0.0, 0.3 * grids.gap}) {
     const double within = grids.gap - 2.0 * slack;
@@ -562,7 +542,7 @@ TEST(Candidates, EveryPairThatComesWithinTheGapInsideItsBoxesIsACandidate) {
         for (int t = 0; t < triangles.cols(); ++t) {
           const Vec3i c = triangles.col(t);
           if (mesh_of(v) == 1 && mesh_of(c[0]) == 1) continue;  // grid b has no self-collision here
-          if (mesh_of(v) == 0 && mesh_of(c[0]) == 0 && !self_vertex_face(v, t)) continue;
+          if (c[0] == v || c[1] == v || c[2] == v) continue;
           if (point_triangle_closest(x.col(v), x.col(c[0]), x.col(c[1]), x.col(c[2])).distance >= within) continue;
           ++close_pairs;
           EXPECT_TRUE(std::binary_search(candidates.vertex_face.begin(), candidates.vertex_face.end(),
@@ -574,7 +554,7 @@ TEST(Candidates, EveryPairThatComesWithinTheGapInsideItsBoxesIsACandidate) {
         for (int f = e + 1; f < edges.cols(); ++f) {
           const Eigen::Vector2i a = edges.col(e), b = edges.col(f);
           if (mesh_of(a[0]) == 1 && mesh_of(b[0]) == 1) continue;
-          if (mesh_of(a[0]) == 0 && mesh_of(b[0]) == 0 && !self_edge_edge(e, f)) continue;
+          if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) continue;
           if (edge_edge_closest(x.col(a[0]), x.col(a[1]), x.col(b[0]), x.col(b[1])).distance >= within) continue;
           ++close_pairs;
           EXPECT_TRUE(std::binary_search(candidates.edge_edge.begin(), candidates.edge_edge.end(),
@@ -584,7 +564,62 @@ TEST(Candidates, EveryPairThatComesWithinTheGapInsideItsBoxesIsACandidate) {
       }
     }
   }
-  EXPECT_GT(close_pairs, 1000);
+  return close_pairs;
+}
+
+TEST(Candidates, EveryPairThatComesWithinTheGapInsideItsBoxesIsACandidate) {
+  EXPECT_GT(expect_every_close_pair_is_a_candidate(TwoSweptGrids(), 11), 1000);
+}
+
+// A grid rolled tightly around the y axis (turns a few gaps apart) whose last rows fold back
+// over the roll as a hem, moving a little over the step: pairs between neighbours one or two
+// rows apart come within the gap, which a query skipping shared-vertex triangle pairs misses.
+SweptGrid rolled_grid_with_hem(int n, unsigned seed, double gap) {
+  SweptGrid grid;
+  grid.mesh = make_grid(n, 6, 1.0, 0.2, GridTriangulation::alternating);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> noise(-0.1 * gap, 0.1 * gap);
+  grid.x_start = grid.mesh.positions;
+  const double pitch = 1.5 * gap;  // radial distance between turns
+  for (int v = 0; v < grid.mesh.num_vertices(); ++v) {
+    const double s = grid.mesh.positions(0, v) + 0.5;  // arc length along the roll, 0 .. 1
+    const double y = grid.mesh.positions(1, v);
+    if (s < 0.8) {  // Archimedean spiral r = r0 + pitch theta / 2pi, arc length ~ r dtheta
+      const double r0 = 0.02;
+      double theta = 0.0;
+      for (int k = 0; k < 200; ++k) theta += (s / 200.0) / (r0 + pitch * theta / (2.0 * M_PI));
+      const double r = r0 + pitch * theta / (2.0 * M_PI);
+      grid.x_start.col(v) = Vec3(r * std::cos(theta), y, r * std::sin(theta));
+    } else {  // the hem: folded back flat along the first row's tangent, half a gap above it
+      grid.x_start.col(v) = Vec3(0.02 + (s - 0.8) * 0.9, y, 0.5 * gap + 0.3 * (s - 0.8) * gap);
+    }
+    grid.x_start.col(v) += Vec3(noise(rng), noise(rng), noise(rng));
+  }
+  grid.x_end = grid.x_start;
+  for (int v = 0; v < grid.mesh.num_vertices(); ++v) grid.x_end.col(v) += Vec3(noise(rng), noise(rng), noise(rng));
+  grid.topology = build_topology(grid.mesh.triangles, grid.mesh.num_vertices());
+  grid.bvh.build(grid.x_start, grid.x_end, grid.mesh.triangles, 0.5 * gap);
+  return grid;
+}
+
+TEST(Candidates, EveryCloseNeighbourPairOfATightRollWithAFoldedHemIsACandidate) {
+  const double gap = TwoSweptGrids::gap;
+  const TwoSweptGrids grids(rolled_grid_with_hem(60, 21, gap), swept_grid(8, 22, Vec3(0.0, 0.0, 0.3), gap));
+  // Neighbour pairs (their triangles share a vertex) within the gap exist, and are candidates.
+  const CollisionCandidates candidates = full_query(grids, TrianglePairList::complete);
+  const Triangles& own = grids.a.mesh.triangles;
+  const MeshTopology& topology = grids.a.topology;
+  int neighbour_pairs = 0;
+  for (const VertexFacePair& pair : candidates.vertex_face) {
+    if (pair.vertex >= grids.offsets_b.vertex || pair.triangle >= grids.offsets_b.triangle) continue;
+    bool only_neighbours = true;  // every triangle around the vertex shares a corner with the face
+    for (int k = topology.vertex_triangle_start[pair.vertex]; k < topology.vertex_triangle_start[pair.vertex + 1]; ++k) {
+      only_neighbours = only_neighbours && share_vertex(own, topology.vertex_triangles[k], pair.triangle);
+    }
+    neighbour_pairs += only_neighbours;
+  }
+  EXPECT_GT(neighbour_pairs, 10);
+  EXPECT_GT(expect_every_close_pair_is_a_candidate(grids, 23), 1000);
 }
 
 TEST(Candidates, AFlatGridAtRestHasNoCandidates) {
@@ -596,7 +631,7 @@ TEST(Candidates, AFlatGridAtRestHasNoCandidates) {
   const MeshTopology topology = build_topology(mesh.triangles, mesh.num_vertices());
   Bvh bvh;
   bvh.build(mesh.positions, mesh.positions, mesh.triangles, 0.5 * gap);
-  const std::vector<TrianglePair> pairs = find_self_pairs(bvh);
+  const std::vector<TrianglePair> pairs = find_self_pairs(bvh, SharedVertexPairs::keep);
   ASSERT_GT(pairs.size(), 1000u);
   const SweptVertexBoxes boxes{mesh.positions, mesh.positions, gap};
   CollisionCandidates candidates;
