@@ -35,7 +35,7 @@ constexpr const char* stats_header =
     "linear_iterations,accepted_steps,rejected_steps,yielded_triangles,move_colliders_ms,integrate_ms,"
     "collisions_ms,rest_update_ms,record_ms,wall_ms,steps,broad_phase_ms,narrow_phase_ms,response_ms,step_ms,"
     "vertex_face_candidates,edge_edge_candidates,proximity_contacts,ccd_impulses,impact_zone_vertices,"
-    "collisions_clean,strain_limited_edges";
+    "collisions_clean,strain_limited_edges,newton_residual,unconverged_steps";
 
 volatile std::sig_atomic_t stop_requested = 0;
 extern "C" void request_stop(int) { stop_requested = 1; }
@@ -66,7 +66,8 @@ std::string stats_line(int frame, double time, const Energies& e, double dissipa
       << ',' << record_ms << ',' << wall_ms << ',' << s.steps << ',' << s.broad_phase_ms << ','
       << s.narrow_phase_ms << ',' << s.response_ms << ',' << s.total_ms << ',' << s.vertex_face_candidates
       << ',' << s.edge_edge_candidates << ',' << s.proximity_contacts << ',' << s.ccd_impulses << ','
-      << s.impact_zone_vertices << ',' << (s.collisions_clean ? 1 : 0) << ',' << s.strain_limited_edges;
+      << s.impact_zone_vertices << ',' << (s.collisions_clean ? 1 : 0) << ',' << s.strain_limited_edges << ','
+      << s.residual << ',' << s.unconverged_steps;
   return out.str();
 }
 
@@ -90,12 +91,15 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
     if (values.size() == columns.size()) table.push_back(values);
   }
   double wall = 0.0, wall_max = 0.0, newton = 0.0, newton_max = 0.0, contacts_max = 0.0;
+  double unconverged = 0.0, residual_max = 0.0;
   for (size_t r = 1; r < table.size(); ++r) {  // frame 0 is the initial state, not simulated
     wall += table[r][column("wall_ms")];
     wall_max = std::max(wall_max, table[r][column("wall_ms")]);
     newton += table[r][column("newton_iterations")];
     newton_max = std::max(newton_max, table[r][column("newton_iterations")]);
     contacts_max = std::max(contacts_max, table[r][column("contacts")]);
+    unconverged += table[r][column("unconverged_steps")];
+    residual_max = std::max(residual_max, table[r][column("newton_residual")]);
   }
   const int simulated = table.empty() ? 0 : static_cast<int>(table.size()) - 1;
   nlohmann::json summary = {
@@ -106,6 +110,8 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
       {"wall_seconds", wall / 1000.0},
       {"ms_per_frame", {{"mean", simulated > 0 ? wall / simulated : 0.0}, {"max", wall_max}}},
       {"newton_iterations", {{"total", newton}, {"max_per_frame", newton_max}}},
+      {"unconverged_steps", unconverged},
+      {"newton_residual_max", residual_max},
       {"contacts_max", contacts_max}};
   if (!table.empty()) {
     const std::vector<double>& first = table.front();
@@ -314,6 +320,8 @@ int Run::record_and_step() {
 
   install_stop_handlers();
   ProgressReporter progress(scene_.frames, !options_.quiet);
+  int unconverged_steps = 0;
+  double worst_residual = 0.0;
   if (first_frame_ == 0) record(0, StepStats{}, Clock::now());
   for (int frame = std::max(1, first_frame_); frame <= scene_.frames; ++frame) {
     if (stop_requested) break;
@@ -348,9 +356,19 @@ int Run::record_and_step() {
       return exit_diverged;
     }
     record(frame, frame_steps, frame_start);
+    progress.add_unconverged_steps(frame_steps.unconverged_steps);
+    unconverged_steps += frame_steps.unconverged_steps;
+    worst_residual = std::max(worst_residual, frame_steps.residual);
     progress.update(frame);
   }
   progress.finish(frames_written_ - 1);
+  if (unconverged_steps > 0) {
+    std::fprintf(stderr,
+                 "weft: %d implicit Euler steps ended unconverged (largest residual %.3g m/s against the "
+                 "tolerance %.3g m/s); stats.csv has them per frame. Raise solver.newton.max_iterations or "
+                 "use solver.newton.linear_solver \"cholesky\".\n",
+                 unconverged_steps, worst_residual, scene_.implicit.newton_tolerance);
+  }
   if (stop_requested) {
     // A checkpoint of the last whole frame, so a preempted cluster job resumes where it stopped.
     if (options_.checkpoint_every > 0 && frames_written_ > 1) write_checkpoint_now(frames_written_ - 1);

@@ -33,7 +33,9 @@ std::string ProgressReporter::describe(int frames_done) const {
   char text[160];
   std::snprintf(text, sizeof text, "%d/%d frames  %.1f frames/s  elapsed %.0fs  ETA %.0fs", frames_done,
                 total_frames_, fps, elapsed, std::ceil(eta));
-  return text;
+  std::string line = text;
+  if (unconverged_steps_ > 0) line += "  " + std::to_string(unconverged_steps_) + " steps unconverged";
+  return line;
 }
 
 void ProgressReporter::update(int frames_done) {

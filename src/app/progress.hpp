@@ -11,6 +11,8 @@ class ProgressReporter {
   ProgressReporter(int total_frames, bool enabled);
   // Reports that `frames_done` of the total are complete.
   void update(int frames_done);
+  // Counts implicit steps that ended unconverged; the line shows the count once it is not 0.
+  void add_unconverged_steps(int steps) { unconverged_steps_ += steps; }
   // Ends the bar's line (terminal) or prints the last line.
   void finish(int frames_done);
 
@@ -18,6 +20,7 @@ class ProgressReporter {
   std::string describe(int frames_done) const;
 
   int total_frames_;
+  int unconverged_steps_ = 0;
   bool enabled_;
   bool terminal_;
   std::chrono::steady_clock::time_point start_;

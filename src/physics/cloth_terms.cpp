@@ -18,8 +18,7 @@ TermEnergies& TermEnergies::operator+=(const TermEnergies& other) {
   return *this;
 }
 
-void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianStencils& stencils,
-                     bool lump_hinge_wings) {
+void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianStencils& stencils) {
   hessian.begin_pattern(static_cast<int>(model.rest_positions.cols()));
   stencils = HessianStencils{};
   if (model.springs.size() > 0) stencils.springs = hessian.add_stencil<2>(model.springs.vertices);
@@ -27,8 +26,7 @@ void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianSte
     stencils.triangles = hessian.add_stencil<3>(model.triangles);
   }
   if (model.bending.enabled()) {
-    stencils.hinges = lump_hinge_wings ? hessian.add_stencil<4>(model.bending.hinges, 2, 3)
-                                       : hessian.add_stencil<4>(model.bending.hinges);
+    stencils.hinges = hessian.add_stencil<4>(model.bending.hinges);
   }
   hessian.finish_pattern();
   std::vector<char> fixed(model.inverse_mass.size());

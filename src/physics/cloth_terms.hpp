@@ -26,11 +26,10 @@ struct HessianStencils {
 };
 
 // Builds the Hessian's sparsity pattern for the cloth's enabled terms and its fixed vertices.
-// `lump_hinge_wings` leaves the blocks between each hinge's wing tips out (their part is lumped
-// onto the tips' diagonal blocks, hinge_bending.hpp): only for PSD-projected (Gauss-Newton)
-// Hessians, i.e. the conjugate gradient path, never for an exact one.
-void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianStencils& stencils,
-                     bool lump_hinge_wings = false);
+// Every element couples all its vertices, the hinges' wing tips included: leaving those blocks
+// out and lumping them onto the tips' diagonal blocks (as Weft did until 2026-11-25) halves a
+// CG product but stiffens rigid motion of the tips, so small or fine cloths froze in the air.
+void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianStencils& stencils);
 
 // Potential energy E(x) (elastic terms and gravity). Adds dE/dx to `gradient` and the
 // element-wise PSD-projected Hessian (if `project`) to `hessian` when they are not null.

@@ -72,13 +72,10 @@ BendingTerm make_bending_term(const MeshTopology& topology, const Positions& res
 // 12x12 eigen-projection took 45% of an implicit step (perf), the Gauss-Newton form costs a rank-one
 // update, and Newton still converges in the same number of iterations (measured, docs/performance.md).
 // That rank-one matrix is added block by block (SparseHessian::add_element_outer), never formed.
-//
-// When the stencil leaves the wing tips x2, x3 uncoupled (SparseHessian::couples(stencil, 2, 3)
-// false, prepare_hessian's `lump_hinge_wings`), their blocks H23 = H32^T are lumped onto H22 and
-// H33. For the Gauss-Newton H = 2k a a^T (a = grad theta, a2 and a3 its wing-tip parts) that
-// adds 2k (a2; -a3)(a2; -a3)^T >= 0: the matrix stays PSD and only grows. The pattern then is
-// the triangles' (a hinge's vertices are its two triangles'), ~7 blocks a row instead of ~13, so
-// every CG product costs about half (docs/performance.md). The gradient stays exact.
+// Since theta is invariant under rigid motion, a . u = 0 for every rigid velocity u, so the
+// Gauss-Newton matrix leaves rigid motion free. No PSD matrix that leaves the wing tips
+// uncoupled can do so and still resist bending (a rotation about the hinge edge moves each tip
+// along its own a-part), which is why the tips' blocks stay in the pattern.
 double evaluate_hinge_bending(const BendingTerm& term, const Positions& x, Positions* gradient,
                               SparseHessian* hessian, int stencil, bool project);
 

@@ -21,8 +21,11 @@ namespace weft {
 enum class LinearSolverKind { conjugate_gradient, cholesky };
 
 struct ImplicitEulerSettings {
-  double newton_tolerance = 1e-5;  // m/s: stop when the Newton step's largest |dx| / h, or the bound
-                                   // h max(1/m) |g| on the next step's, is below this
+  // m/s: converged when the residual (newton_residual()) is below this: no free vertex's
+  // unbalanced force would change its velocity by more than this over the step. The length of
+  // the Newton step never decides convergence: a too-stiff model makes it short far from the
+  // answer.
+  double newton_tolerance = 1e-5;
   int max_newton_iterations = 30;
   // When the full Newton step is taken and the quadratic through Phi(x), its slope and
   // Phi(x + dx) puts the minimum along dx beyond 1.5 dx (the model over-estimated the curvature:
@@ -42,12 +45,18 @@ struct ImplicitEulerSettings {
 struct NewtonReport {
   int newton_iterations = 0;
   int linear_iterations = 0;  // CG iterations summed over Newton iterations (0 for Cholesky)
-  bool converged = false;
+  bool converged = false;     // the residual fell below newton_tolerance
+  double residual = 0.0;      // m/s, newton_residual() at the step's end
   int projected_hessians = 0;          // Cholesky only: iterations whose exact Hessian was not positive
                                        // definite, so the element-wise projected one was solved instead
   int stretched_steps = 0;              // Newton steps the line search stretched past dx (max_step_expansion)
   std::vector<double> gradient_norms;  // |grad of incremental potential| over free vertices, per iteration
 };
+
+// The residual of the incremental potential's gradient g (N per vertex, pinned entries zero) in
+// the units of velocity: max over vertices of h |g_i| / m_i, the velocity change the unbalanced
+// force on vertex i would cause over the step. Zero exactly at the implicit Euler solution.
+double newton_residual(const Positions& gradient, const Eigen::VectorXd& inverse_mass, double h);
 
 // Preallocated storage for one cloth's implicit steps; the sparsity pattern is built on first use.
 class ImplicitEulerSolver {
@@ -60,7 +69,7 @@ class ImplicitEulerSolver {
   const NewtonReport& last_report() const { return report_; }
 
  private:
-  void prepare(const ClothModel& model, bool lump_hinge_wings);
+  void prepare(const ClothModel& model);
   double incremental_potential(const ClothModel& model, const Vec3& gravity, const Positions& x, double h,
                                Positions* gradient, bool assemble, bool project);
   bool solve(const ImplicitEulerSettings& settings, double cg_tolerance, const Eigen::VectorXd* cg_guess);
@@ -69,7 +78,6 @@ class ImplicitEulerSolver {
   ConjugateGradientSolver::Coupling coupling_;  // penalty coupling blocks at x_linearized_
   Positions x_linearized_;                      // where the Hessian was last assembled
   bool prepared_ = false;
-  bool lump_hinge_wings_ = false;  // the pattern leaves the hinges' wing-tip blocks out (CG)
   int num_vertices_ = 0;
   SparseHessian hessian_;
   HessianStencils stencils_;

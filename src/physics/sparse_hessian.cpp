@@ -11,7 +11,6 @@ void SparseHessian::begin_pattern(int num_vertices) {
   block_columns_.assign(num_vertices, {});
   for (int i = 0; i < num_vertices; ++i) block_columns_[i].push_back(i);
   stencil_sizes_.clear();
-  stencil_uncoupled_.clear();
   stencil_elements_.clear();
   stencil_slots_.clear();
 }
@@ -49,8 +48,7 @@ void SparseHessian::finish_pattern() {
       for (int a = 0; a < k; ++a) {
         for (int b = 0; b < k; ++b) {
           for (int r = 0; r < 3; ++r) {
-            slots[((e * k + a) * k + b) * 3 + r] =
-                couples(static_cast<int>(s), a, b) ? block_row_start(elements(a, e), elements(b, e), r) : -1;
+            slots[((e * k + a) * k + b) * 3 + r] = block_row_start(elements(a, e), elements(b, e), r);
           }
         }
       }

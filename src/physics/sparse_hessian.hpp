@@ -19,17 +19,9 @@ class SparseHessian {
   // Pattern building: the diagonal blocks of all vertices are always present.
   void begin_pattern(int num_vertices);
   // Registers elements of K vertices each (K x n_elements indices); returns the stencil's id.
-  // The blocks between the elements' local vertices `uncoupled_a` and `uncoupled_b` (when given)
-  // stay out of the pattern: add_element() skips them, so the caller must have moved what they
-  // held elsewhere (the hinges' wing tips, see hinge_bending.hpp).
+  // Every block between two vertices of an element is in the pattern.
   template <int K>
-  int add_stencil(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements, int uncoupled_a = -1,
-                  int uncoupled_b = -1);
-  // Whether local vertices a and b of the stencil's elements have their blocks in the pattern.
-  bool couples(int stencil, int a, int b) const {
-    const std::pair<int, int>& pair = stencil_uncoupled_[stencil];
-    return !((a == pair.first && b == pair.second) || (a == pair.second && b == pair.first));
-  }
+  int add_stencil(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements);
   void finish_pattern();
 
   // Vertices whose rows and columns become identity at finish_assembly().
@@ -41,9 +33,7 @@ class SparseHessian {
   template <int K>
   void add_element(int stencil, int e, const Eigen::Matrix<double, 3 * K, 3 * K>& element_matrix);
   // Adds the rank-one element matrix scale * a a^T (a of 3K entries: a Gauss-Newton term's) without
-  // forming it. A pair of local vertices (p, q) the stencil leaves out of the pattern is lumped:
-  // its blocks a_p a_q^T + a_q a_p^T are bounded by a_p a_p^T + a_q a_q^T, which is added to the
-  // diagonal blocks instead, so the assembled matrix stays PSD and only grows.
+  // forming it.
   template <int K>
   void add_element_outer(int stencil, int e, double scale, const Eigen::Matrix<double, 3 * K, 1>& a);
   // Adds `block` to the diagonal block of `vertex`.
@@ -78,7 +68,6 @@ class SparseHessian {
   int num_vertices_ = 0;
   std::vector<std::vector<int>> block_columns_;  // during pattern building: block columns per block row
   std::vector<int> stencil_sizes_;               // K of each stencil
-  std::vector<std::pair<int, int>> stencil_uncoupled_;  // local pair left out of each stencil, or (-1, -1)
   std::vector<Eigen::MatrixXi> stencil_elements_;
   std::vector<std::vector<int>> stencil_slots_;  // per stencil: (n_elements x K x K x 3) value offsets
   std::vector<int> diagonal_slots_;              // per vertex: 3 offsets of its diagonal block rows
@@ -88,15 +77,10 @@ class SparseHessian {
 };
 
 template <int K>
-int SparseHessian::add_stencil(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements, int uncoupled_a,
-                               int uncoupled_b) {
-  stencil_uncoupled_.emplace_back(uncoupled_a, uncoupled_b);
-  const int stencil = static_cast<int>(stencil_sizes_.size());
+int SparseHessian::add_stencil(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements) {
   for (Eigen::Index e = 0; e < elements.cols(); ++e) {
     for (int a = 0; a < K; ++a) {
-      for (int b = 0; b < K; ++b) {
-        if (couples(stencil, a, b)) block_columns_[elements(a, e)].push_back(elements(b, e));
-      }
+      for (int b = 0; b < K; ++b) block_columns_[elements(a, e)].push_back(elements(b, e));
     }
   }
   stencil_sizes_.push_back(K);
@@ -110,7 +94,6 @@ void SparseHessian::add_element(int stencil, int e, const Eigen::Matrix<double, 
   double* values = matrix_.valuePtr();
   for (int a = 0; a < K; ++a) {
     for (int b = 0; b < K; ++b) {
-      if (slots[(a * K + b) * 3] < 0) continue;  // a pair left out of the pattern
       for (int r = 0; r < 3; ++r) {
         double* row = values + slots[(a * K + b) * 3 + r];
         for (int c = 0; c < 3; ++c) row[c] += element_matrix(3 * a + r, 3 * b + c);
@@ -122,14 +105,11 @@ void SparseHessian::add_element(int stencil, int e, const Eigen::Matrix<double, 
 template <int K>
 void SparseHessian::add_element_outer(int stencil, int e, double scale, const Eigen::Matrix<double, 3 * K, 1>& a) {
   const int* slots = stencil_slots_[stencil].data() + static_cast<size_t>(e) * K * K * 3;
-  const std::pair<int, int>& left_out = stencil_uncoupled_[stencil];
   double* values = matrix_.valuePtr();
   for (int p = 0; p < K; ++p) {
     const Vec3 scaled = scale * a.template segment<3>(3 * p);
     for (int q = 0; q < K; ++q) {
-      if (slots[(p * K + q) * 3] < 0) continue;  // the pair left out of the pattern
-      const bool lumped_onto = q == p && (p == left_out.first || p == left_out.second);
-      const Vec3 column = (lumped_onto ? 2.0 : 1.0) * a.template segment<3>(3 * q);
+      const Vec3 column = a.template segment<3>(3 * q);
       for (int r = 0; r < 3; ++r) {
         double* row = values + slots[(p * K + q) * 3 + r];
         for (int c = 0; c < 3; ++c) row[c] += scaled[r] * column[c];

@@ -148,7 +148,8 @@ void World::integrate_cloth(Cloth& cloth, ClothSolvers& solvers, double h, StepS
       const NewtonReport& report = solvers.implicit.step(cloth, settings.gravity, h, settings.implicit, &solvers.penalty);
       stats.newton_iterations += report.newton_iterations;
       stats.linear_iterations += report.linear_iterations;
-      if (!report.gradient_norms.empty()) stats.residual = std::max(stats.residual, report.gradient_norms.back());
+      stats.residual = std::max(stats.residual, report.residual);
+      stats.unconverged_steps += !report.converged;
       break;
     }
     case IntegratorKind::xpbd:
@@ -243,6 +244,7 @@ StepStats& StepStats::operator+=(const StepStats& step) {
   accepted_steps += step.accepted_steps;
   rejected_steps += step.rejected_steps;
   residual = std::max(residual, step.residual);
+  unconverged_steps += step.unconverged_steps;
   return *this;
 }
 

@@ -60,7 +60,10 @@ struct StepStats {
   int linear_iterations = 0;     // conjugate-gradient iterations, summed likewise
   int accepted_steps = 0;        // adaptive stepping: steps taken
   int rejected_steps = 0;        // adaptive stepping: steps retried smaller
-  double residual = 0.0;         // implicit Euler: largest final gradient norm over cloths
+  double residual = 0.0;         // implicit Euler: largest final residual over cloths and steps, m/s
+                                 // (physics/implicit_euler.hpp newton_residual)
+  int unconverged_steps = 0;     // implicit Euler: cloth steps that ended with the residual above
+                                 // the Newton tolerance (iteration cap, or no descent left)
   int yielded_triangles = 0;     // plasticity: triangles whose rest shape flowed
 
   // Sums the counts and times of `step` into this (the residual keeps the largest).
