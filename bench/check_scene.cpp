@@ -2,7 +2,9 @@
 // the tests use (tests/support/scene_invariants.hpp: exact triangle intersections, vertices
 // crossing analytic solids) and the headless runner's divergence bounds (sim/stability.hpp:
 // speed 100 m/s, stretch 6x), printing one CSV line per frame; `largest_strain` is the largest
-// stretch - 1 of any spring or membrane triangle. Exit code 0: every frame clean;
+// stretch - 1 of any spring or membrane triangle, `largest_edge_stretch` the largest triangle side
+// over its rest length (checked against collision.strain_limit where the scene sets one). Exit
+// code 0: every frame clean;
 // 1: a violation (the run stops there); 2: bad input.
 //   weft_check_scene scenes/twist.json [--set path=value ...] [--frames N] [--threads N]
 //                    [--resume DIR/checkpoint.bin] [--every-step]
@@ -64,13 +66,14 @@ int main(int argc, char** argv) {
     const testing::SceneInvariants invariants(world);
     const FrameSchedule schedule = frame_schedule(scene.fps, scene.time_step);
     std::printf("frame,step,time,steps,contacts,intersecting_pairs,vertices_crossed,step_ms,collision_ms,broad_ms,"
-                "narrow_ms,response_ms,newton_iterations,linear_iterations,impact_zone_vertices,collisions_clean,largest_strain\n");
+                "narrow_ms,response_ms,newton_iterations,linear_iterations,impact_zone_vertices,collisions_clean,largest_strain,"
+                "largest_edge_stretch\n");
     const auto print = [&](int frame, int step, const StepStats& totals, const testing::InvariantReport& report) {
-      std::printf("%d,%d,%.6f,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%d,%d,%d,%.3f\n", frame, step, world.time(),
+      std::printf("%d,%d,%.6f,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%d,%d,%d,%.3f,%.4f\n", frame, step, world.time(),
                   totals.steps, totals.contacts, report.intersecting_pairs, report.vertices_crossed, totals.total_ms,
                   totals.collisions_ms, totals.broad_phase_ms, totals.narrow_phase_ms, totals.response_ms,
                   totals.newton_iterations, totals.linear_iterations, totals.impact_zone_vertices,
-                  totals.collisions_clean ? 1 : 0, largest_strain(world));
+                  totals.collisions_clean ? 1 : 0, largest_strain(world), report.largest_edge_stretch);
       std::fflush(stdout);
       Instability unstable = check_state(world, StabilityLimits{});
       if (!unstable.found) unstable = check_strain(world, StabilityLimits{});

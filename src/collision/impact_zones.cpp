@@ -105,36 +105,52 @@ void apply_rigid_motion(CollisionStep& step, const int* vertices, int count) {
 
 ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
                                       const std::vector<EdgeEdgePair>& edge_edges,
-                                      const ResponseSettings& settings, ImpactZoneWorkspace& workspace) {
+                                      const ResponseSettings& settings, ImpactZoneWorkspace& workspace,
+                                      const StrainBound* strain) {
   const int n = static_cast<int>(step.x_start.cols());
   std::vector<int>& parent = workspace.parent;
   std::vector<int>& members = workspace.members;
   std::vector<char>& in_zone = workspace.in_zone;
   CcdCollisions& collisions = workspace.collisions;
+  std::vector<int>& stretched = workspace.stretched;
   parent.resize(n);
   std::iota(parent.begin(), parent.end(), 0);
   in_zone.assign(n, 0);
   members.clear();
 
+  const auto join = [&](int a, int b) {
+    unite(parent, a, b);
+    for (const int v : {a, b}) {
+      if (!in_zone[v]) {
+        in_zone[v] = 1;
+        members.push_back(v);
+      }
+    }
+  };
+  const auto find_stretched = [&] {
+    stretched.clear();
+    if (strain == nullptr) return;
+    for (int e = 0; e < static_cast<int>(step.edges.cols()); ++e) {
+      if (edge_over_limit(step, *strain, e)) stretched.push_back(e);
+    }
+  };
+
   ImpactZoneResult result;
   for (; result.passes < settings.max_impact_zone_passes; ++result.passes) {
     detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
-    if (collisions.empty()) {
+    find_stretched();
+    if (collisions.empty() && stretched.empty()) {
       result.clean = true;
       break;
     }
 
-    // Merge the vertices of every remaining collision into one zone (BFA 2002 section 7.4).
+    // Merge the vertices of every remaining collision into one zone (BFA 2002 section 7.4), and
+    // the ends of every edge over the strain limit.
     for (const CcdCollision& collision : collisions.found) {
       const std::array<int, 4>& vertices = collision.stencil.vertices;
-      for (int k = 0; k < 4; ++k) {
-        unite(parent, vertices[0], vertices[k]);
-        if (!in_zone[vertices[k]]) {
-          in_zone[vertices[k]] = 1;
-          members.push_back(vertices[k]);
-        }
-      }
+      for (int k = 0; k < 4; ++k) join(vertices[0], vertices[k]);
     }
+    for (const int e : stretched) join(step.edges(0, e), step.edges(1, e));
 
     // Group the zone vertices by root, then give each zone one rigid motion.
     std::sort(members.begin(), members.end(), [&](int a, int b) {
@@ -156,11 +172,13 @@ ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<Ver
     result.stopped = true;
     for (int v : members) stop_vertex(step, v);
     detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
-    if (!collisions.empty()) {
+    find_stretched();
+    if (!collisions.empty() || !stretched.empty()) {
       for (int v = 0; v < n; ++v) stop_vertex(step, v);
       detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
+      find_stretched();
     }
-    result.clean = collisions.empty();
+    result.clean = collisions.empty() && stretched.empty();
   }
 
   // Zone statistics.

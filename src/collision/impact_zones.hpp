@@ -5,11 +5,18 @@
 // angular momentum, with the inertia tensor of its vertex masses. A zone holding a vertex of
 // infinite mass follows the rigid motion fitted to its infinite-mass vertices instead (a pinned
 // vertex at rest makes the zone immovable). Detection repeats until the motion is clean.
+//
+// With a strain limit, an edge over it (strain_limiting.hpp, edge_over_limit) is merged like a
+// colliding pair: both ends join one zone, whose rigid motion keeps the edge at its start
+// length. The Gauss-Seidel limiter runs before the zones; this catches what it could not finish
+// and what the zones' rigid motions stretch (an edge from a zone to a free vertex), so a step
+// that ends clean ends with every edge within the limit.
 #include <vector>
 
 #include "collision/ccd_response.hpp"
 #include "collision/collision_step.hpp"
 #include "collision/contact_pairs.hpp"
+#include "collision/strain_limiting.hpp"
 
 namespace weft {
 
@@ -18,6 +25,7 @@ struct ImpactZoneWorkspace {
   std::vector<int> parent;    // union-find forest over vertices (n_vertices)
   std::vector<int> members;   // vertices in zones of two or more, grouped by zone
   std::vector<char> in_zone;  // whether a vertex is listed in `members` (n_vertices)
+  std::vector<int> stretched;  // edges over the strain limit in the current pass
   CcdCollisions collisions;
 };
 
@@ -33,11 +41,13 @@ struct ImpactZoneResult {
 // written to x_end and velocity of the vertices with finite mass.
 void apply_rigid_motion(CollisionStep& step, const int* vertices, int count);
 
-// Detects and merges zones up to settings.max_impact_zone_passes times. If collisions remain, the
-// vertices in zones, and then if needed every vertex of finite mass, stop for the step: starting
-// from a state without intersection this ends without one unless infinite-mass vertices collide.
+// Detects and merges zones up to settings.max_impact_zone_passes times. If collisions (or edges
+// over `strain`'s limit, when given) remain, the vertices in zones, and then if needed every
+// vertex of finite mass, stop for the step: starting from a state without intersection and
+// within the limit this ends so unless infinite-mass vertices collide.
 ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
                                       const std::vector<EdgeEdgePair>& edge_edges,
-                                      const ResponseSettings& settings, ImpactZoneWorkspace& workspace);
+                                      const ResponseSettings& settings, ImpactZoneWorkspace& workspace,
+                                      const StrainBound* strain = nullptr);
 
 }  // namespace weft

@@ -53,4 +53,13 @@ StrainLimitResult limit_edge_strain(CollisionStep& step, const std::vector<doubl
   return result;
 }
 
+bool edge_over_limit(const CollisionStep& step, const StrainBound& bound, int e) {
+  const double rest = bound.rest_length[e];
+  const int i = step.edges(0, e), j = step.edges(1, e);
+  if (!(rest > 0.0) || !(step.inverse_mass[i] + step.inverse_mass[j] > 0.0)) return false;
+  const double length = (step.x_end.col(j) - step.x_end.col(i)).norm();
+  if (!(length > (1.0 + bound.max_strain) * (1.0 + limit_slack) * rest)) return false;
+  return length > (step.x_start.col(j) - step.x_start.col(i)).norm() * (1.0 + 1e-12);
+}
+
 }  // namespace weft

@@ -25,4 +25,13 @@ struct StrainLimitResult {
 StrainLimitResult limit_edge_strain(CollisionStep& step, const std::vector<double>& rest_length,
                                     double max_strain, int max_sweeps);
 
+// The strain limit as the impact zones read it: edge e is over it when some end has finite mass
+// and its end-of-step length exceeds both (1 + max_strain) rest_length[e] (to the limiter's
+// slack of 1e-3) and its start-of-step length, which a rigid motion keeps.
+struct StrainBound {
+  const std::vector<double>& rest_length;
+  double max_strain;
+};
+bool edge_over_limit(const CollisionStep& step, const StrainBound& bound, int e);
+
 }  // namespace weft

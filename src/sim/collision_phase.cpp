@@ -425,13 +425,18 @@ void CollisionPhase::apply_ccd_impulses() {
   label_records(first_record);
 }
 
-// Phase: what the impulses left colliding moves as rigid zones.
+// Phase: what the impulses left colliding (or, with a strain limit, stretched past it) moves as
+// rigid zones. limit_strain marks the step unclean whenever it moved anything, so the zones run
+// whenever the limit may not hold.
 void CollisionPhase::apply_impact_zones() {
   if (stats_.clean) return;
   const auto start = Clock::now();
   CollisionStep step = make_step();
+  // With a strain limit, edges still over it join zones too (impact_zones.hpp).
+  const StrainBound strain{edge_rest_length_, settings.strain_limit};
   const ImpactZoneResult zones =
-      resolve_impact_zones(step, candidates_.vertex_face, candidates_.edge_edge, ccd_settings(), zone_workspace_);
+      resolve_impact_zones(step, candidates_.vertex_face, candidates_.edge_edge, ccd_settings(), zone_workspace_,
+                           settings.strain_limit > 0.0 ? &strain : nullptr);
   stats_.impact_zone_vertices += zones.zone_vertices;
   stats_.clean = zones.clean;
   stats_.response_ms += milliseconds_since(start);

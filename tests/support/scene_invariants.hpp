@@ -4,7 +4,8 @@
 // two colliders aside), and a vertex-in-solid test against the analytic collider shapes written
 // here from their definitions (plane half-space, sphere, box, capsule, capped cylinder; meshes and
 // open tubes have no inside). A vertex must stay on the side of each solid it started on (outside,
-// or inside a drum).
+// or inside a drum). Where the scene sets collision.strain_limit, every side of every cloth
+// triangle must stay within (1 + strain_limit) times its rest length (to the limiter's 1e-3).
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -58,8 +59,10 @@ inline double reference_signed_distance_at(const Collider& c, const Vec3& p, dou
 struct InvariantReport {
   int intersecting_pairs = 0;  // non-adjacent triangle pairs that intersect (cloth-cloth, cloth-collider)
   int vertices_crossed = 0;    // cloth vertices on the other side of a solid than at the start
+  int edges_over_limit = 0;    // triangle sides longer than (1 + strain_limit) rest, where one is set
+  double largest_edge_stretch = 0.0;  // largest side length / rest length over the cloths
   std::string first;           // the first violation, in words
-  bool ok() const { return intersecting_pairs == 0 && vertices_crossed == 0; }
+  bool ok() const { return intersecting_pairs == 0 && vertices_crossed == 0 && edges_over_limit == 0; }
 };
 
 class SceneInvariants {
@@ -110,6 +113,25 @@ class SceneInvariants {
           if (report.vertices_crossed++ == 0 && report.intersecting_pairs == 0) {
             first << "t = " << world.time() << ": vertex " << i << " of cloth " << c << " crossed collider "
                   << collider.name << " (signed distance " << distance << ")";
+          }
+        }
+      }
+    }
+    // Triangle sides against their rest lengths.
+    const double limit = world.settings.collision.strain_limit;
+    for (int c = 0; c < num_cloths; ++c) {
+      const Cloth& cloth = world.cloths()[c];
+      const Triangles& triangles = cloth.model.triangles;
+      for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+        for (int k = 0; k < 3; ++k) {
+          const int a = triangles(k, t), b = triangles((k + 1) % 3, t);
+          const double rest = (cloth.model.rest_positions.col(b) - cloth.model.rest_positions.col(a)).norm();
+          const double stretch = (cloth.state.x.col(b) - cloth.state.x.col(a)).norm() / rest;
+          report.largest_edge_stretch = std::max(report.largest_edge_stretch, stretch);
+          if (!(limit > 0.0) || stretch <= (1.0 + limit) * (1.0 + 1.001e-3)) continue;
+          if (report.edges_over_limit++ == 0 && report.intersecting_pairs == 0 && report.vertices_crossed == 0) {
+            first << "t = " << world.time() << ": edge (" << a << ", " << b << ") of cloth " << c << " at " << stretch
+                  << " x its rest length, past the strain limit " << limit;
           }
         }
       }

@@ -1,0 +1,90 @@
+// Rigid impact zones as the strain limit's fail-safe: with a bound, edges the Gauss-Seidel
+// limiter left over it join zones, whose rigid motion keeps them at their start length, and an
+// edge a zone's rigid motion stretches pulls its free end into the zone; within the limit nothing
+// moves. (Zones against collisions are exercised through CollisionPhase and the scene tests.)
+#include "collision/impact_zones.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+#include "collision_test_scene.hpp"
+
+namespace weft {
+namespace {
+
+// A strip of `count` vertices 0.1 m apart along x, joined by edges, each moving by `end_shift(i)`.
+struct Strip {
+  test::CollisionScene scene;
+  std::vector<double> rest_length;
+
+  template <typename Shift>
+  Strip(int count, Shift end_shift) {
+    for (int i = 0; i < count; ++i) scene.add_vertex(Vec3(0.1 * i, 0.0, 0.0), end_shift(i) / scene.h, 1.0);
+    for (int i = 0; i + 1 < count; ++i) {
+      scene.add_edge(i, i + 1);
+      rest_length.push_back(0.1);
+    }
+  }
+
+  double length_at_end(int e) const {
+    return (scene.x_end.col(scene.edges(1, e)) - scene.x_end.col(scene.edges(0, e))).norm();
+  }
+};
+
+TEST(ImpactZones, EdgesOverTheStrainLimitMoveRigidlyToTheirStartLength) {
+  // Vertex 3 of 6 pulled 0.5 m up: edges 2-3 and 3-4 at ~5x their rest length.
+  Strip strip(6, [](int i) { return i == 3 ? Vec3(0.0, 0.5, 0.0) : Vec3::Zero(); });
+  CollisionStep step = strip.scene.step();
+  const StrainBound bound{strip.rest_length, 1.0};
+  ASSERT_TRUE(edge_over_limit(step, bound, 2));
+  ImpactZoneWorkspace workspace;
+  const ImpactZoneResult result = resolve_impact_zones(step, {}, {}, ResponseSettings{}, workspace, &bound);
+  EXPECT_TRUE(result.clean);
+  EXPECT_FALSE(result.stopped);
+  EXPECT_GE(result.zone_vertices, 3);
+  for (int e = 0; e < 5; ++e) {
+    EXPECT_LE(strip.length_at_end(e), 2.0 * 0.1 * (1.0 + 1e-3)) << "edge " << e;
+    EXPECT_FALSE(edge_over_limit(step, bound, e));
+  }
+  // The zone keeps its momentum: the strip's total momentum is unchanged (all masses 1).
+  EXPECT_NEAR(strip.scene.momentum(strip.scene.velocity).y(), 0.5 / strip.scene.h, 1e-9 / strip.scene.h);
+}
+
+TEST(ImpactZones, WithoutABoundOrWithinTheLimitNothingMoves) {
+  Strip stretched(6, [](int i) { return i == 3 ? Vec3(0.0, 0.5, 0.0) : Vec3::Zero(); });
+  const Positions before = stretched.scene.x_end;
+  CollisionStep step = stretched.scene.step();
+  ImpactZoneWorkspace workspace;
+  EXPECT_TRUE(resolve_impact_zones(step, {}, {}, ResponseSettings{}, workspace).clean);
+  EXPECT_TRUE(stretched.scene.x_end == before);
+
+  Strip calm(6, [](int i) { return Vec3(0.0, 0.01 * i, 0.0); });  // edges at ~1.005 rest
+  const Positions calm_before = calm.scene.x_end;
+  CollisionStep calm_step = calm.scene.step();
+  const StrainBound bound{calm.rest_length, 1.0};
+  const ImpactZoneResult result = resolve_impact_zones(calm_step, {}, {}, ResponseSettings{}, workspace, &bound);
+  EXPECT_TRUE(result.clean);
+  EXPECT_EQ(result.zone_vertices, 0);
+  EXPECT_TRUE(calm.scene.x_end == calm_before);
+}
+
+TEST(ImpactZones, AnEdgeStretchedAtTheStartIsNotMadeWorse) {
+  // Edge 0-1 starts at 3x its rest length (a limit of 1 cannot hold for it); the step keeps it.
+  Strip strip(3, [](int) { return Vec3::Zero(); });
+  strip.scene.x_start.col(0).x() = -0.2;
+  strip.scene.x_end.col(0).x() = -0.2;
+  CollisionStep step = strip.scene.step();
+  const StrainBound bound{strip.rest_length, 1.0};
+  EXPECT_FALSE(edge_over_limit(step, bound, 0));
+  // Pulled further apart over the step, it is over the bound and held at its start length.
+  strip.scene.x_end.col(0).x() = -0.4;
+  EXPECT_TRUE(edge_over_limit(step, bound, 0));
+  ImpactZoneWorkspace workspace;
+  EXPECT_TRUE(resolve_impact_zones(step, {}, {}, ResponseSettings{}, workspace, &bound).clean);
+  EXPECT_LE(strip.length_at_end(0), 0.3 * (1.0 + 1e-9));
+}
+
+}  // namespace
+}  // namespace weft
