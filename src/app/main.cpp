@@ -170,6 +170,7 @@ int run(int argc, char** argv) {
     }
     headless_options.scene_given = app.count("scene") > 0;
     weft::recording_format_from_string(format, headless_options.format);
+    headless_options.format_given = app.count("--format") > 0;
     return weft::run_headless(headless_options);
   }
   for (const char* option : {"--resume", "--checkpoint-every", "--format"}) {

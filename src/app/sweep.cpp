@@ -20,6 +20,7 @@
 
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
+#include "io/output_lock.hpp"
 #include "io/scene_file.hpp"
 #include "io/sweep_file.hpp"
 
@@ -297,10 +298,14 @@ int run_sweep(const SweepOptions& options) {
     return 0;
   }
 
+  // One sweep per folder at a time (each case's run also locks its own folder); held until return.
+  OutputLock lock;
   try {
     std::error_code error;
     fs::create_directories(out / "logs", error);
     if (error) throw IoError(out.string() + ": cannot create the sweep folder: " + error.message());
+    lock = OutputLock(out);
+    if (!lock.took_over().empty()) std::fprintf(stderr, "weft sweep: %s\n", lock.took_over().c_str());
     // The manifest: which case is which.
     nlohmann::json manifest = {{"name", sweep.name},
                                {"sweep_file", options.sweep_file},
@@ -322,6 +327,9 @@ int run_sweep(const SweepOptions& options) {
                    cases.size(), script.c_str());
       return 0;
     }
+  } catch (const OutputLocked& error) {
+    std::fprintf(stderr, "weft sweep: %s\n", error.what());
+    return 2;
   } catch (const IoError& error) {
     std::fprintf(stderr, "weft: %s\n", error.what());
     return 4;
