@@ -76,6 +76,25 @@ TEST(Sweep, RunsEveryCaseLocallyWithAProgressLineEach) {
   EXPECT_EQ(count(again.error_text, "already complete"), 4) << again.error_text;
 }
 
+TEST(Sweep, ACaseWhoseDefinitionChangedRunsAgain) {
+  TempDir dir("weft_sweep_changed");
+  const fs::path out = dir.path() / "sweep";
+  const std::string sweep = write_sweep(dir);
+  ASSERT_EQ(run_program({weft_program, "sweep", sweep, "--out", out.string()}, dir.file("a.txt")).exit_code,
+            0);
+  // Five frames instead of four: every case's recording is of another scene now.
+  std::string text = read_bytes(sweep);
+  text.replace(text.find("\"frames\": 4"), 11, "\"frames\": 5");
+  std::ofstream(sweep) << text;
+  const auto result = run_program({weft_program, "sweep", sweep, "--out", out.string()}, dir.file("b.txt"));
+  EXPECT_EQ(result.exit_code, 0) << result.error_text;
+  EXPECT_EQ(count(result.error_text, "changed since it ran (the scene differs at /frames); running it again"),
+            4)
+      << result.error_text;
+  EXPECT_EQ(count(result.error_text, "already complete"), 0) << result.error_text;
+  EXPECT_EQ(read_json(out / case_names[0] / "run.json")["scene"]["frames"], 5);
+}
+
 TEST(Sweep, OneSweepPerFolderAndOneWriterPerCase) {
   TempDir dir("weft_sweep_locked");
   const fs::path out = dir.path() / "sweep";
