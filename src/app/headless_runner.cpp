@@ -17,6 +17,7 @@
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv_log.hpp"
+#include "io/output_lock.hpp"
 #include "io/scene_builder.hpp"
 #include "io/scene_file.hpp"
 #include "weft/version.hpp"
@@ -145,6 +146,7 @@ class Run {
   void write_checkpoint_now(int frame) const;
 
   const HeadlessOptions& options_;
+  RecordingFormat format_ = RecordingFormat::point_cache;  // --format, or on resume the recorded one
   std::vector<std::string> overrides_;  // as given, plus "frames=N" for --frames
   std::string scene_file_;
   SceneDesc scene_;
@@ -162,6 +164,7 @@ class Run {
 // Reads and checks everything (scene, checkpoint) before touching the output folder.
 int Run::load() {
   const bool resuming = !options_.resume_dir.empty();
+  format_ = options_.format;
   out_ = resuming ? fs::path(options_.resume_dir) : fs::path(options_.out_dir);
   scene_file_ = options_.scene_path;
   overrides_ = options_.overrides;
@@ -174,11 +177,26 @@ int Run::load() {
       return exit_bad_input;
     }
     checkpoint_ = read_checkpoint(checkpoint_path);
+    const std::string run_path = (out_ / "run.json").string();
+    std::ifstream in(run_path);
+    const nlohmann::json run = nlohmann::json::parse(in, nullptr, false);
+    // The recording goes on in the format it started in: frames of another would mix in one folder.
+    RecordingFormat recorded_format;
+    if (run.is_object() && run.contains("format") && run["format"].is_string() &&
+        recording_format_from_string(run["format"].get<std::string>(), recorded_format)) {
+      if (!options_.format_given) {
+        format_ = recorded_format;
+      } else if (format_ != recorded_format) {
+        std::fprintf(stderr,
+                     "weft: %s: the run was recorded with --format %s; resume it with --format %s (or "
+                     "without --format), not %s\n",
+                     run_path.c_str(), to_string(recorded_format), to_string(recorded_format),
+                     to_string(format_));
+        return exit_bad_input;
+      }
+    }
     if (!options_.scene_given) {
       // The recorded run's scene file and overrides, as run.json has them.
-      const std::string run_path = (out_ / "run.json").string();
-      std::ifstream in(run_path);
-      const nlohmann::json run = nlohmann::json::parse(in, nullptr, false);
       if (run.is_discarded() || !run.contains("scene_file") || !run["scene_file"].is_string() ||
           !run.contains("overrides") || !run["overrides"].is_array()) {
         std::fprintf(stderr,
@@ -233,7 +251,7 @@ void Run::write_run_json(const std::string& status) const {
                               {"scene_file", scene_file_},
                               {"overrides", overrides_},
                               {"threads", world_.settings.threads},
-                              {"format", to_string(options_.format)},
+                              {"format", to_string(format_)},
                               {"checkpoint_every", options_.checkpoint_every},
                               {"status", status},
                               {"frames_written", frames_written_},
@@ -264,14 +282,25 @@ int Run::execute() {
     return exit_bad_input;
   }
 
+  // Held until this function returns, on every path: one writer per output folder.
+  OutputLock lock;
   try {
     std::error_code error;
     fs::create_directories(out_, error);
     if (error || !fs::is_directory(out_)) {
       throw IoError(out_.string() + ": cannot create output folder" + (error ? ": " + error.message() : ""));
     }
+    lock = OutputLock(out_);
+    if (!lock.took_over().empty()) std::fprintf(stderr, "weft: %s\n", lock.took_over().c_str());
     return record_and_step();
+  } catch (const OutputLocked& error) {
+    std::fprintf(stderr, "weft: %s\n", error.what());
+    return exit_bad_input;
   } catch (const IoError& error) {
+    if (!lock.held()) {
+      std::fprintf(stderr, "weft: %s\n", error.what());
+      return exit_output_error;
+    }
     std::fprintf(stderr, "weft: %s\n", error.what());
     // Best effort: say in run.json why the run stopped (this may fail too when the disk is full).
     try {
@@ -285,7 +314,7 @@ int Run::execute() {
 
 int Run::record_and_step() {
   const FrameSchedule schedule = frame_schedule(scene_.fps, scene_.time_step);
-  RecordingWriter recording(out_.string(), options_.format, scene_.frames, scene_.fps);
+  RecordingWriter recording(out_.string(), format_, scene_.frames, scene_.fps);
   std::error_code ignored;
   if (first_frame_ == 0) {
     fs::remove(out_ / checkpoint_file, ignored);  // a stale checkpoint of an earlier run

@@ -18,6 +18,7 @@ struct HeadlessOptions {
   bool quiet = false;  // no progress output
   int threads = 1;     // threads for the solver (0: all cores)
   RecordingFormat format = RecordingFormat::point_cache;
+  bool format_given = false;  // false with resume_dir: the format of the recorded run
   int checkpoint_every = 0;  // frames between checkpoints; 0: none
   std::string resume_dir;    // continue the run recorded there (from its checkpoint)
   bool scene_given = true;   // false with resume_dir: the scene of the recorded run

@@ -1,6 +1,11 @@
 // weft: the viewer by default, a headless recording with --headless, and the `sweep` and
 // `plot` commands. This file only reads the command line and dispatches.
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -9,12 +14,47 @@
 #include "app/headless_runner.hpp"
 #include "app/plot.hpp"
 #include "app/sweep.hpp"
+#include "io/sweep_file.hpp"
+#include "sim/scene_desc.hpp"
+#include "sim/world.hpp"
 #include "weft/version.hpp"
 #ifdef WEFT_HAS_VIEWER
 #include "app/viewer.hpp"
 #endif
 
-int main(int argc, char** argv) {
+namespace {
+
+// An integer option in [min, max]; `what` says what it counts, for the message CLI11 prefixes
+// with the option's name ("--frames: expected a whole number of frames >= 0, got 'abc'").
+CLI::Validator whole_number(const std::string& what, long long min, long long max, const std::string& range) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        errno = 0;
+        char* end = nullptr;
+        const long long value = std::strtoll(text.c_str(), &end, 10);
+        if (text.empty() || *end != '\0' || errno == ERANGE || value < min || value > max) {
+          return "expected a whole number of " + what + " " + range + ", got '" + text + "'";
+        }
+        return {};
+      },
+      "INT");
+}
+
+// A number >= 0 (a bound; 0 turns it off).
+CLI::Validator non_negative_number(const std::string& what) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0' || !std::isfinite(value) || value < 0.0) {
+          return "expected " + what + " >= 0 (0: no bound), got '" + text + "'";
+        }
+        return {};
+      },
+      "NUMBER");
+}
+
+int run(int argc, char** argv) {
   CLI::App app{"Weft: cloth and soft-body simulation"};
   weft::HeadlessOptions headless_options;
   headless_options.scene_path = "scenes/default.json";
@@ -33,10 +73,11 @@ int main(int argc, char** argv) {
   app.add_flag("--headless", headless, "Run without a window and record to --out");
   app.add_option("--out", headless_options.out_dir, "Output folder of a headless run");
   app.add_option("--frames", headless_options.frames, "Frames to simulate (overrides the scene's \"frames\")")
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_number("frames", 0, weft::max_frames, ">= 0 and <= " + std::to_string(weft::max_frames)));
+  // One value per --set, so `--set fps=30 scene.json` leaves the scene to the positional argument.
   app.add_option("--set", headless_options.overrides,
-                 "Override a scene field: path=value (e.g. solver.time_step=0.001)")
-      ->take_all();
+                 "Override a scene field: path=value (e.g. solver.time_step=0.001); repeat for more")
+      ->allow_extra_args(false);
   app.add_option("--screenshot", screenshot, "Viewer: simulate --frames frames, save a PNG and exit");
   app.add_option("--record", record_dir, "Viewer: save every drawn frame as DIR/frame_NNNNN.png");
   app.add_option("--show", show,
@@ -48,13 +89,15 @@ int main(int argc, char** argv) {
   app.add_option("--open-panel", open_panels, "Viewer: start with this panel expanded and in front")
       ->check(CLI::IsMember({"Simulation", "Solver", "Material", "Display and collisions", "Plots"}));
   app.add_option("--box-depth", box_depth, "Viewer: bounding-box hierarchy depth shown with --show boxes")
-      ->check(CLI::Range(0, 16));
+      ->check(whole_number("levels", 0, 16, "from 0 to 16"));
   app.add_option("--subdivide", subdivision, "Viewer: Loop subdivision levels of the displayed cloth")
-      ->check(CLI::Range(0, 2));
+      ->check(whole_number("levels", 0, 2, "from 0 to 2"));
   app.add_flag("--test-contacts", test_contacts, "Viewer: draw synthetic contacts (tests the contact display)");
   app.add_flag("--quiet", headless_options.quiet, "Headless: no progress output");
-  app.add_option("--threads", headless_options.threads, "Solver threads (0: all cores)")
-      ->check(CLI::NonNegativeNumber)
+  app.add_option("--threads", headless_options.threads,
+                 "Solver threads (0: all cores; at most " + std::to_string(weft::max_threads) + ")")
+      ->check(whole_number("threads", 0, weft::max_threads,
+                           "from 0 (all cores) to " + std::to_string(weft::max_threads)))
       ->capture_default_str();
   app.add_option("--format", format,
                  "Headless recording: pc2 (rest OBJ + point cache per cloth), obj (a file "
@@ -63,17 +106,18 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--checkpoint-every", headless_options.checkpoint_every,
                  "Headless: write DIR/checkpoint.bin every N frames (0: never)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_number("frames", 0, weft::max_frames,
+                           "from 0 (never) to " + std::to_string(weft::max_frames)));
   app.add_option("--resume", headless_options.resume_dir,
                  "Headless: continue the run recorded in DIR from its checkpoint");
   app.add_option("--max-speed", headless_options.limits.max_speed,
                  "Headless: stop (exit 3) when a vertex moves faster, m/s (0: no bound)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(non_negative_number("a speed in m/s"))
       ->capture_default_str();
   app.add_option("--max-strain", headless_options.limits.max_strain,
                  "Headless: stop (exit 3) when a spring or membrane triangle stretches more, as "
                  "stretch - 1 (0: no bound)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(non_negative_number("a strain"))
       ->capture_default_str();
   app.add_flag("--version", version, "Print the version and exit");
 
@@ -84,7 +128,8 @@ int main(int argc, char** argv) {
   sweep->add_flag("--slurm", sweep_options.slurm, "Write an sbatch array script instead of running");
   sweep->add_option("--out", sweep_options.out_dir, "Sweep folder (default: the sweep file's \"out\")");
   sweep->add_option("--jobs,-j", sweep_options.jobs, "Local runs at once (default: cores / threads)")
-      ->check(CLI::PositiveNumber);
+      ->check(whole_number("runs at once", 1, weft::max_sweep_jobs,
+                           "from 1 to " + std::to_string(weft::max_sweep_jobs)));
   sweep->add_flag("--dry-run", sweep_options.dry_run, "List the case names and exit");
 
   weft::PlotOptions plot_options;
@@ -125,6 +170,7 @@ int main(int argc, char** argv) {
     }
     headless_options.scene_given = app.count("scene") > 0;
     weft::recording_format_from_string(format, headless_options.format);
+    headless_options.format_given = app.count("--format") > 0;
     return weft::run_headless(headless_options);
   }
   for (const char* option : {"--resume", "--checkpoint-every", "--format"}) {
@@ -153,4 +199,41 @@ int main(int argc, char** argv) {
                headless_options.scene_path.c_str());
   return 1;
 #endif
+}
+
+void report_out_of_memory() {
+  std::fprintf(stderr,
+               "weft: out of memory: the scene needs more memory than this process may use "
+               "(a smaller grid resolution, fewer cloths, or a machine or job with more memory)\n");
+}
+
+std::terminate_handler default_terminate = nullptr;
+
+// std::bad_alloc thrown inside an OpenMP parallel region cannot reach main (the region ends in
+// std::terminate): it still gets the out-of-memory message and exit 2 instead of an abort.
+[[noreturn]] void terminate_on_out_of_memory() {
+  if (const std::exception_ptr error = std::current_exception()) {
+    try {
+      std::rethrow_exception(error);
+    } catch (const std::bad_alloc&) {
+      report_out_of_memory();
+      std::_Exit(2);
+    } catch (...) {
+    }
+  }
+  default_terminate();
+  std::abort();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  default_terminate = std::set_terminate(terminate_on_out_of_memory);
+  // Out of memory on the main thread ends here, whole: the output lock is released on the way.
+  try {
+    return run(argc, argv);
+  } catch (const std::bad_alloc&) {
+    report_out_of_memory();
+    return 2;
+  }
 }

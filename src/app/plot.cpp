@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -114,6 +115,53 @@ std::string plot_into(const fs::path& dir, const std::vector<Series>& runs) {
   return error.empty() && !fs::exists(energy_png) ? "gnuplot wrote no " + energy_png : error;
 }
 
+// The columns plot_into reads.
+const std::vector<std::string> plotted_columns = {
+    "frame",        "kinetic_energy", "potential_energy",  "energy_dissipated", "wall_ms",
+    "integrate_ms", "collisions_ms",  "move_colliders_ms", "record_ms"};
+
+// Checks a stats.csv before gnuplot sees it (gnuplot says little about a damaged file): a header
+// with the plotted columns, then rows of as many numbers. Returns "FILE: line N: ...", or empty.
+std::string check_stats(const fs::path& csv) {
+  std::ifstream in(csv);
+  if (!in) return csv.string() + ": cannot open the file";
+  std::string line;
+  std::vector<std::string> header;
+  if (std::getline(in, line)) {
+    std::stringstream fields(line);
+    for (std::string field; std::getline(fields, field, ',');) header.push_back(field);
+  }
+  for (const std::string& column : plotted_columns) {
+    if (std::find(header.begin(), header.end(), column) == header.end()) {
+      return printable_text(csv.string() + ": line 1: expected the stats header of a weft run, with a \"" +
+                            column + "\" column; got \"" + line.substr(0, 80) +
+                            (line.size() > 80 ? "...\"" : "\""));
+    }
+  }
+  int rows = 0;
+  for (int number = 2; std::getline(in, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::stringstream fields(line);
+    size_t count = 0;
+    std::string bad;
+    for (std::string field; std::getline(fields, field, ','); ++count) {
+      char* end = nullptr;
+      std::strtod(field.c_str(), &end);
+      if (bad.empty() && (field.empty() || *end != '\0'))
+        bad = field.empty() ? "an empty field" : "\"" + field + "\"";
+    }
+    if (count != header.size() || !bad.empty()) {
+      const std::string got = count != header.size() ? std::to_string(count) + " fields" : bad;
+      return printable_text(csv.string() + ": line " + std::to_string(number) + ": expected " +
+                            std::to_string(header.size()) +
+                            " comma-separated numbers (one per header column), got " + got.substr(0, 80));
+    }
+    ++rows;
+  }
+  if (rows == 0) return csv.string() + ": line 2: expected at least one row of numbers after the header";
+  return {};
+}
+
 }  // namespace
 
 int run_plot(const PlotOptions& options) {
@@ -131,6 +179,12 @@ int run_plot(const PlotOptions& options) {
     std::fprintf(stderr, "weft plot: %s: expected a run folder with stats.csv, or a sweep folder of them\n",
                  options.dir.c_str());
     return 2;
+  }
+  for (const fs::path& run : run_dirs) {
+    if (const std::string error = check_stats(run / "stats.csv"); !error.empty()) {
+      std::fprintf(stderr, "weft plot: %s\n", error.c_str());
+      return 2;
+    }
   }
   try {
     std::vector<Series> all;

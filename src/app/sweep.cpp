@@ -20,6 +20,7 @@
 
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
+#include "io/output_lock.hpp"
 #include "io/scene_file.hpp"
 #include "io/sweep_file.hpp"
 
@@ -47,12 +48,40 @@ std::string shell_quote(const std::string& text) {
   return quoted + "'";
 }
 
-std::string case_status(const fs::path& case_dir) {
+// What a case folder's run.json says about the run recorded there, against the case as the
+// sweep defines it now.
+struct RecordedCase {
+  std::string status;  // "complete", "interrupted", ...; empty if there is no run.json
+  int frames_written = 0;
+  std::string change;  // empty when recorded with this case's scene (frames aside) and format
+  bool frames_changed = false;
+};
+
+RecordedCase recorded_case(const fs::path& case_dir, const nlohmann::json& scene, const std::string& format) {
   std::ifstream in(case_dir / "run.json");
   const nlohmann::json run = nlohmann::json::parse(in, nullptr, false);
-  return run.is_object() && run.contains("status") && run["status"].is_string()
-             ? run["status"].get<std::string>()
-             : "";
+  RecordedCase recorded;
+  if (!run.is_object()) return recorded;
+  if (run.contains("status") && run["status"].is_string()) recorded.status = run["status"].get<std::string>();
+  if (run.contains("frames_written") && run["frames_written"].is_number_integer()) {
+    recorded.frames_written = run["frames_written"].get<int>();
+  }
+  // The resolved scene covers the overrides, the sweep's frames and edits to the scene file. A
+  // case asking for other frames only may go on from its checkpoint; any other change may not.
+  nlohmann::json recorded_scene = run.value("scene", nlohmann::json::object());
+  nlohmann::json wanted_scene = scene;
+  recorded.frames_changed = recorded_scene.value("frames", -1) != wanted_scene.value("frames", -1);
+  if (recorded_scene.is_object()) recorded_scene.erase("frames");
+  wanted_scene.erase("frames");
+  if (recorded_scene != wanted_scene) {
+    const nlohmann::json patch = nlohmann::json::diff(recorded_scene, wanted_scene);
+    recorded.change =
+        "the scene differs at " + (patch.empty() ? std::string("/") : patch[0].value("path", "/"));
+  } else if (run.value("format", "") != format) {
+    recorded.change =
+        "it was recorded as " + run.value("format", std::string("?")) + ", the sweep asks for " + format;
+  }
+  return recorded;
 }
 
 // The options every case's weft command shares (after the scene and --out/--resume).
@@ -177,7 +206,8 @@ std::string describe_exit(int code) {
   }
 }
 
-int run_locally(const SweepDesc& sweep, const std::vector<SweepCase>& cases, const fs::path& out, int jobs) {
+int run_locally(const SweepDesc& sweep, const std::vector<SweepCase>& cases,
+                const std::vector<nlohmann::json>& case_scenes, const fs::path& out, int jobs) {
   const std::string weft = own_executable();
   struct Running {
     size_t index;
@@ -204,17 +234,29 @@ int run_locally(const SweepDesc& sweep, const std::vector<SweepCase>& cases, con
     while (!sweep_stop_requested && next < total && static_cast<int>(running.size()) < jobs) {
       const SweepCase& sweep_case = cases[next];
       const fs::path case_dir = out / sweep_case.name;
-      const std::string status = case_status(case_dir);
-      if (status == "complete") {
+      const RecordedCase recorded = recorded_case(case_dir, case_scenes[next], sweep.format);
+      if (recorded.status == "complete" && recorded.change.empty() && !recorded.frames_changed) {
         ++finished;
         std::fprintf(stderr, "weft sweep: [%zu/%zu] %s already complete\n", finished, total,
                      sweep_case.name.c_str());
         ++next;
         continue;
       }
+      // A case whose definition changed since it ran starts again (its checkpoint is of the old
+      // one), as does one that already went past fewer frames now asked for.
+      const int frames = case_scenes[next].value("frames", 0);
+      const bool past_the_end = recorded.frames_changed && recorded.frames_written - 1 > frames;
+      const bool checkpoint = fs::exists(case_dir / "checkpoint.bin");
+      const bool again = !recorded.status.empty() && (!recorded.change.empty() || past_the_end ||
+                                                      (recorded.frames_changed && !checkpoint));
+      if (again) {
+        std::fprintf(stderr, "weft sweep: %s changed since it ran (%s); running it again\n",
+                     sweep_case.name.c_str(),
+                     recorded.change.empty() ? "the scene differs at /frames" : recorded.change.c_str());
+      }
       std::error_code error;
       fs::create_directories(case_dir, error);
-      const bool resume = fs::exists(case_dir / "checkpoint.bin");
+      const bool resume = !again && checkpoint;
       const pid_t pid =
           spawn(case_command(sweep, sweep_case, case_dir, weft, resume), (case_dir / "log.txt").string());
       if (pid <= 0) {
@@ -273,6 +315,7 @@ int run_locally(const SweepDesc& sweep, const std::vector<SweepCase>& cases, con
 int run_sweep(const SweepOptions& options) {
   SweepDesc sweep;
   std::vector<SweepCase> cases;
+  std::vector<nlohmann::json> case_scenes;  // each case's resolved scene, as its run.json will have it
   try {
     sweep = load_sweep_file(options.sweep_file);
     cases = expand_sweep(sweep);
@@ -281,7 +324,7 @@ int run_sweep(const SweepOptions& options) {
       try {
         std::vector<std::string> overrides = sweep_case.overrides;
         if (sweep.frames >= 0) overrides.push_back("frames=" + std::to_string(sweep.frames));
-        load_scene_file(sweep.scene, overrides);
+        case_scenes.push_back(scene_to_json(load_scene_file(sweep.scene, overrides)));
       } catch (const SceneError& error) {
         throw SceneError(options.sweep_file, "/grid", "case " + sweep_case.name + ": " + error.what());
       }
@@ -297,10 +340,14 @@ int run_sweep(const SweepOptions& options) {
     return 0;
   }
 
+  // One sweep per folder at a time (each case's run also locks its own folder); held until return.
+  OutputLock lock;
   try {
     std::error_code error;
     fs::create_directories(out / "logs", error);
     if (error) throw IoError(out.string() + ": cannot create the sweep folder: " + error.message());
+    lock = OutputLock(out);
+    if (!lock.took_over().empty()) std::fprintf(stderr, "weft sweep: %s\n", lock.took_over().c_str());
     // The manifest: which case is which.
     nlohmann::json manifest = {{"name", sweep.name},
                                {"sweep_file", options.sweep_file},
@@ -322,13 +369,16 @@ int run_sweep(const SweepOptions& options) {
                    cases.size(), script.c_str());
       return 0;
     }
+  } catch (const OutputLocked& error) {
+    std::fprintf(stderr, "weft sweep: %s\n", error.what());
+    return 2;
   } catch (const IoError& error) {
     std::fprintf(stderr, "weft: %s\n", error.what());
     return 4;
   }
   int jobs = options.jobs >= 0 ? options.jobs : sweep.jobs;
   if (jobs <= 0) jobs = std::max(1, static_cast<int>(::sysconf(_SC_NPROCESSORS_ONLN)) / sweep.threads);
-  return run_locally(sweep, cases, out, jobs);
+  return run_locally(sweep, cases, case_scenes, out, jobs);
 }
 
 }  // namespace weft

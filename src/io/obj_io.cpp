@@ -89,6 +89,35 @@ ObjCoordinates read_coordinates(const std::string& text, const std::string& path
   return coordinates;
 }
 
+// The line of each triangle tinyobjloader makes: an `f` statement of n corners gives n - 2 in
+// file order. Empty when the counts disagree (a polygon tinyobjloader triangulated otherwise),
+// so messages then name the triangle alone.
+std::vector<int> triangle_lines(const std::string& text, Eigen::Index num_triangles) {
+  std::vector<int> lines;
+  int line_number = 0;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t stop = text.find_first_of("\r\n", start);
+    if (stop == std::string::npos) stop = text.size();
+    const char* token = text.data() + start;
+    const char* const line_end = text.data() + stop;
+    start = stop + ((stop + 1 < text.size() && text[stop] == '\r' && text[stop + 1] == '\n') ? 2 : 1);
+    ++line_number;
+    while (token < line_end && (*token == ' ' || *token == '\t')) ++token;
+    if (line_end - token < 2 || token[0] != 'f' || (token[1] != ' ' && token[1] != '\t')) continue;
+    int corners = 0;
+    for (const char* c = token + 1; c < line_end;) {
+      while (c < line_end && (*c == ' ' || *c == '\t')) ++c;
+      if (c == line_end) break;
+      ++corners;
+      while (c < line_end && *c != ' ' && *c != '\t') ++c;
+    }
+    for (int k = 0; k + 2 < corners; ++k) lines.push_back(line_number);
+  }
+  if (static_cast<Eigen::Index>(lines.size()) != num_triangles) lines.clear();
+  return lines;
+}
+
 // Rewrites a tinyobjloader parse error, e.g. "Failed parse `f' line(...line 3.)", as "line 3: ...".
 std::string describe_parse_error(const std::string& error) {
   std::string where;
@@ -166,12 +195,26 @@ TriangleMesh read_obj(const std::string& path) {
     }
     mesh.triangles(c % 3, c / 3) = v;
   }
+  // A repeated vertex or two corners at one point: the triangle has no shape, and its normal,
+  // rest strain and contact distances divide by zero.
+  const std::vector<int> lines = triangle_lines(text, mesh.num_triangles());
   for (int t = 0; t < mesh.num_triangles(); ++t) {
     const Vec3i tri = mesh.triangles.col(t);
+    const std::string where = path + ": " + (lines.empty() ? "" : "line " + std::to_string(lines[t]) + ": ") +
+                              "triangle " + std::to_string(t + 1);
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) {
-      throw IoError(path + ": triangle " + std::to_string(t + 1) + " repeats vertex (" +
-                    std::to_string(tri[0] + 1) + ", " + std::to_string(tri[1] + 1) + ", " +
-                    std::to_string(tri[2] + 1) + ")");
+      throw IoError(where + " repeats vertex (" + std::to_string(tri[0] + 1) + ", " +
+                    std::to_string(tri[1] + 1) + ", " + std::to_string(tri[2] + 1) + ")");
+    }
+    for (int k = 0; k < 3; ++k) {
+      const int a = tri[k], b = tri[(k + 1) % 3];
+      if (mesh.positions.col(a) == mesh.positions.col(b)) {
+        std::ostringstream point;
+        point << mesh.positions(0, a) << ", " << mesh.positions(1, a) << ", " << mesh.positions(2, a);
+        throw IoError(where + " has a zero-length edge: vertices " + std::to_string(a + 1) + " and " +
+                      std::to_string(b + 1) + " are both at (" + point.str() +
+                      "); expected the corners of a triangle at distinct points");
+      }
     }
   }
 

@@ -1,11 +1,14 @@
 #include "io/scene_file.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <set>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "sim/world.hpp"
 
 namespace weft {
 
@@ -188,7 +191,6 @@ std::string name_of(Enum item, const std::vector<std::pair<std::string, Enum>>& 
 }
 
 constexpr int max_grid_resolution = 4096;
-constexpr int max_frames = 10'000'000;
 
 void read_spring(ObjectReader& springs, const std::string& kind, SpringParams& params, const std::string& file) {
   if (const json* value = springs.find(kind)) {
@@ -427,6 +429,37 @@ Collider read_collider(const json& value, const std::string& path, const std::st
   return collider;
 }
 
+// A frame must fit in max_steps_per_frame integration sub-steps: a run asking for more could not
+// finish (1e-12 s steps are 3e10 a frame), so it is refused before anything is built.
+void check_steps_per_frame(const ObjectReader& reader, const SceneDesc& scene) {
+  const double steps = steps_per_frame(scene.fps, scene.time_step);
+  const double solver_sub_steps = steps * scene.substeps;
+  const double xpbd_substeps = scene.integrator == IntegratorKind::xpbd ? scene.xpbd.substeps : 1;
+  if (solver_sub_steps * xpbd_substeps <= max_steps_per_frame) return;
+  std::ostringstream message;
+  message << std::setprecision(4);
+  const auto too_many = [&](double count) {
+    message << ": " << count << " sub-steps per frame, more than the " << max_steps_per_frame
+            << " a run can finish in";
+  };
+  if (steps > max_steps_per_frame) {
+    message << "expected a time step of at least " << 1.0 / scene.fps / max_steps_per_frame << " s at "
+            << scene.fps << " fps, got " << scene.time_step;
+    too_many(steps);
+    reader.fail("/solver/time_step", message.str());
+  }
+  if (solver_sub_steps > max_steps_per_frame) {
+    message << "expected at most " << static_cast<long long>(max_steps_per_frame / steps) << " substeps with "
+            << steps << " steps per frame, got " << scene.substeps;
+    too_many(solver_sub_steps);
+    reader.fail("/solver/substeps", message.str());
+  }
+  message << "expected at most " << static_cast<long long>(max_steps_per_frame / solver_sub_steps)
+          << " XPBD substeps with " << solver_sub_steps << " steps per frame, got " << scene.xpbd.substeps;
+  too_many(solver_sub_steps * xpbd_substeps);
+  reader.fail("/solver/xpbd/substeps", message.str());
+}
+
 json to_json(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 // Splits "a.b.0.c" or "/a/b/0/c" into tokens.
@@ -482,8 +515,9 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
     }
     solver.finish();
   }
-  reader.number("fps", scene.fps, positive);
+  reader.number("fps", scene.fps, Range{min_fps, max_fps, false, " in [1, 10000]"});
   reader.integer("frames", scene.frames, 0, max_frames);
+  check_steps_per_frame(reader, scene);
   if (const json* cloths = reader.find("cloths")) {
     if (!cloths->is_array()) reader.fail("/cloths", "expected an array of cloths, got " + type_name(*cloths));
     for (size_t k = 0; k < cloths->size(); ++k) {
@@ -558,15 +592,21 @@ void apply_override(json& document, const std::string& assignment, const std::st
 }
 
 SceneDesc load_scene_file(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream in(path);
+  // A folder opens as a stream but fails on the first read (an uncaught ios_base::failure).
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored)) {
+    throw SceneError(path, "", "is a folder; expected a scene file (JSON), e.g. scenes/default.json");
+  }
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path, "", "cannot open the scene file");
-  json document = json::parse(in, nullptr, /*allow_exceptions=*/false);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw SceneError(path, "", "cannot read the scene file");
+  json document = json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
   if (document.is_discarded()) {
     // Parse again with exceptions to get nlohmann's message, which has the line and column.
-    in.clear();
-    in.seekg(0);
     try {
-      document = json::parse(in);
+      document = json::parse(text.str());
     } catch (const json::parse_error& error) {
       std::string message = error.what();
       const size_t detail = message.find("parse error");

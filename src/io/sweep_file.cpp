@@ -5,9 +5,11 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include "core/error.hpp"
 #include "io/recording.hpp"
+#include "sim/world.hpp"
 
 namespace weft {
 
@@ -48,12 +50,14 @@ std::string read_string(const ordered_json& object, const std::string& key, cons
 }
 
 int read_int(const ordered_json& object, const std::string& key, const std::string& path,
-             const std::string& file, int fallback, int minimum) {
+             const std::string& file, int fallback, int minimum, int maximum = 1000000000) {
   if (!object.contains(key)) return fallback;
   const ordered_json& value = object[key];
-  if (!value.is_number_integer() || value.get<long long>() < minimum || value.get<long long>() > 1000000000) {
+  if (!value.is_number_integer() || value.get<long long>() < minimum || value.get<long long>() > maximum) {
     throw SceneError(file, path + "/" + key,
-                     "expected an integer >= " + std::to_string(minimum) + ", got " + value.dump());
+                     "expected an integer >= " + std::to_string(minimum) +
+                         (maximum < 1000000000 ? " and <= " + std::to_string(maximum) : std::string()) +
+                         ", got " + value.dump());
   }
   return value.get<int>();
 }
@@ -133,9 +137,17 @@ std::vector<std::string> short_labels(const std::vector<std::string>& paths) {
 }  // namespace
 
 SweepDesc load_sweep_file(const std::string& path) {
-  std::ifstream in(path);
+  // A folder opens as a stream but fails on the first read (an uncaught ios_base::failure).
+  std::error_code ignored;
+  if (fs::is_directory(path, ignored)) {
+    throw SceneError(path, "", "is a folder; expected a sweep file (JSON), e.g. sweeps/drape_stiffness.json");
+  }
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path, "", "cannot open the sweep file");
-  const ordered_json document = ordered_json::parse(in, nullptr, false);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw SceneError(path, "", "cannot read the sweep file");
+  const ordered_json document = ordered_json::parse(text.str(), nullptr, false);
   if (document.is_discarded()) throw SceneError(path, "", "invalid JSON");
   if (!document.is_object()) throw SceneError(path, "", "expected an object");
   check_keys(document, sweep_keys, "", path);
@@ -150,8 +162,8 @@ SweepDesc load_sweep_file(const std::string& path) {
                                     : (fs::path(path).parent_path() / scene).lexically_normal().string();
   sweep.out = read_string(document, "out", "", path, (fs::path("out") / sweep.name).string());
   sweep.frames = read_int(document, "frames", "", path, -1, 0);
-  sweep.threads = read_int(document, "threads", "", path, 1, 1);
-  sweep.jobs = read_int(document, "jobs", "", path, 0, 0);
+  sweep.threads = read_int(document, "threads", "", path, 1, 1, max_threads);
+  sweep.jobs = read_int(document, "jobs", "", path, 0, 0, max_sweep_jobs);
   sweep.checkpoint_every = read_int(document, "checkpoint_every", "", path, 0, 0);
   sweep.format = read_string(document, "format", "", path, "pc2");
   RecordingFormat format;

@@ -9,6 +9,10 @@
 
 namespace weft {
 
+// Most local runs at once ("jobs", --jobs): each case is a process of its own, and past this
+// many a machine spends its time switching between them.
+constexpr int max_sweep_jobs = 1024;
+
 struct SlurmSettings {
   std::string partition;            // #SBATCH --partition (empty: the cluster's default)
   std::string time = "01:00:00";    // #SBATCH --time, per case

@@ -89,6 +89,14 @@ struct ClothDesc {
   std::vector<MovingPinDesc> moving_pins; // scripted vertices
 };
 
+// Bounds the scene reader holds every scene to (docs/scenes.md).
+constexpr int max_frames = 10'000'000;  // frames of one run
+constexpr double min_fps = 1.0;         // frames per simulated second
+constexpr double max_fps = 10'000.0;
+// A cloth's contact thickness at most this fraction of its size (its rest bounding-box diagonal):
+// beyond it every part of the cloth is "in contact" with most others and a step never ends.
+constexpr double max_thickness_fraction = 0.1;
+
 struct SceneDesc {
   std::string source_file;        // where it came from, for error messages ("<inline>" if none)
   std::string name = "untitled";

@@ -5,6 +5,8 @@
 #include <Eigen/Core>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "collision/collider_geometry.hpp"
 #include "core/topology.hpp"
@@ -248,12 +250,22 @@ StepStats& StepStats::operator+=(const StepStats& step) {
   return *this;
 }
 
-FrameSchedule frame_schedule(double fps, double max_time_step) {
-  const double frame_time = 1.0 / fps;
-  FrameSchedule schedule;
+double steps_per_frame(double fps, double max_time_step) {
   // The small tolerance keeps an exact divisor (1/600 into 1/60) from rounding up to one more step.
-  schedule.steps_per_frame = std::max(1, static_cast<int>(std::ceil(frame_time / max_time_step - 1e-9)));
-  schedule.time_step = frame_time / schedule.steps_per_frame;
+  return std::max(1.0, std::ceil((1.0 / fps) / max_time_step - 1e-9));
+}
+
+FrameSchedule frame_schedule(double fps, double max_time_step) {
+  // Checked before the cast: a tiny step (1e-12 s) once overflowed the int and ran at h = 1/fps.
+  const double steps = steps_per_frame(fps, max_time_step);
+  if (!(steps <= max_steps_per_frame)) {
+    throw std::out_of_range("frame_schedule: a frame of 1/" + std::to_string(fps) +
+                            " s in steps of at most " + std::to_string(max_time_step) +
+                            " s needs more than " + std::to_string(max_steps_per_frame) + " steps");
+  }
+  FrameSchedule schedule;
+  schedule.steps_per_frame = static_cast<int>(steps);
+  schedule.time_step = (1.0 / fps) / schedule.steps_per_frame;
   return schedule;
 }
 

@@ -146,11 +146,24 @@ class World {
   StepStats stats_;
 };
 
+// Most integration sub-steps (steps x substeps) one frame may take. Even a 2x2 cloth needs
+// about a microsecond per sub-step, so past this a frame takes seconds and a run hours; far past
+// it the step count no longer fits an int. Scenes asking for more are refused (docs/scenes.md).
+constexpr int max_steps_per_frame = 1'000'000;
+
+// Most solver threads: well above the cores of one node, and below the counts (thousands) at
+// which libgomp hangs or crashes creating them.
+constexpr int max_threads = 256;
+
 // How a frame of 1/fps seconds is cut into equal steps no longer than max_time_step.
 struct FrameSchedule {
   int steps_per_frame = 1;
   double time_step = 0.0;          // (1/fps) / steps_per_frame
 };
+// Throws std::out_of_range when that takes more than max_steps_per_frame steps.
 FrameSchedule frame_schedule(double fps, double max_time_step);
+
+// The steps frame_schedule would cut a frame into, as a double (no overflow; inf for h = 0).
+double steps_per_frame(double fps, double max_time_step);
 
 }  // namespace weft

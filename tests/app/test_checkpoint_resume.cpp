@@ -121,6 +121,56 @@ TEST(CheckpointResume, ADifferentSceneOrADamagedCheckpointIsRefused) {
   EXPECT_NE(result.error_text.find("no checkpoint to resume from"), std::string::npos) << result.error_text;
 }
 
+TEST(CheckpointResume, ResumeKeepsTheRecordedFormat) {
+  TempDir dir("weft_resume_format");
+  const fs::path out = dir.path() / "run";
+  std::vector<std::string> first = drape(out, 8, {"--checkpoint-every", "4"});
+  first[std::find(first.begin(), first.end(), "both") - first.begin()] = "pc2";
+  ASSERT_EQ(run_program(first, dir.file("a.txt")).exit_code, 0);
+  const std::string pc2_before = read_bytes(out / "cloth.pc2");
+
+  // Another format would mix OBJ frames into a point-cache recording: refused, nothing written.
+  auto result = run_program(
+      {weft_program, "--headless", "--resume", out.string(), "--quiet", "--format", "obj", "--frames", "12"},
+      dir.file("b.txt"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(
+      result.error_text.find("run.json: the run was recorded with --format pc2; resume it with --format pc2 "
+                             "(or without --format), not obj"),
+      std::string::npos)
+      << result.error_text;
+  EXPECT_EQ(read_bytes(out / "cloth.pc2"), pc2_before);
+  EXPECT_FALSE(fs::exists(out / frame_name(0)));
+
+  // The same format, or none, goes on in the recorded one.
+  result = run_program({weft_program, "--headless", "--resume", out.string(), "--quiet", "--frames", "12"},
+                       dir.file("c.txt"));
+  EXPECT_EQ(result.exit_code, 0) << result.error_text;
+  EXPECT_EQ(read_json(out / "run.json")["format"], "pc2");
+  EXPECT_FALSE(fs::exists(out / frame_name(12)));
+  result = run_program(
+      {weft_program, "--headless", "--resume", out.string(), "--quiet", "--format", "pc2", "--frames", "16"},
+      dir.file("d.txt"));
+  EXPECT_EQ(result.exit_code, 0) << result.error_text;
+}
+
+TEST(CheckpointResume, ARunningRecordingCannotBeResumedBeside) {
+  TempDir dir("weft_resume_locked");
+  const fs::path out = dir.path() / "run";
+  const pid_t first = start_program(drape(out, 100000, {"--checkpoint-every", "1"}), dir.file("first.txt"));
+  ASSERT_GT(first, 0);
+  ASSERT_TRUE(wait_for(out / "checkpoint.bin", std::chrono::seconds(120)));
+  const auto result =
+      run_program({weft_program, "--headless", "--resume", out.string(), "--quiet"}, dir.file("second.txt"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.error_text.find("in use by another weft run (pid " + std::to_string(first) + " on host "),
+            std::string::npos)
+      << result.error_text;
+  ::kill(first, SIGINT);
+  EXPECT_EQ(wait_program(first, dir.file("first.txt")).exit_code, 130);
+  EXPECT_FALSE(fs::exists(out / ".weft.lock"));  // released on the interrupted path too
+}
+
 // Every term that carries state or depends on time: plastic membrane (its rest shapes flow),
 // bending, wind and drag, a moving pin group (it follows the time), implicit Euler. A run
 // stopped at frame 12 and extended from its checkpoint to 24 frames records the same bytes as

@@ -2,6 +2,7 @@
 // exit codes for bad input, divergence and unwritable output, and Ctrl-C leaving whole frames.
 #include <gtest/gtest.h>
 #include <tiny_obj_loader.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <csignal>
@@ -139,6 +140,47 @@ TEST(HeadlessRunner, DivergenceStopsWithCodeThreeNamingTheVertex) {
   EXPECT_NE(result.error_text.find("diverged in frame"), std::string::npos) << result.error_text;
   EXPECT_NE(result.error_text.find("vertex"), std::string::npos) << result.error_text;
   EXPECT_TRUE(read_back((out / "frame_0000.obj").string()).ok);
+}
+
+TEST(HeadlessRunner, OneWriterPerOutputFolder) {
+  TempDir dir("weft_lock_run");
+  const fs::path out = dir.path() / "out";
+  const std::vector<std::string> command = {
+      weft_program, "--headless", source_dir + "/scenes/default.json", "--out", out.string(),
+      "--quiet",    "--set",      "cloths.0.grid.resolution=[8,8]"};
+  std::vector<std::string> endless = command;
+  endless.insert(endless.end(), {"--frames", "10000000"});
+  const pid_t first = testing::start_program(endless, dir.file("first.txt"));
+  ASSERT_GT(first, 0);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!fs::exists(out / "stats.csv") && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  std::vector<std::string> short_run = command;
+  short_run.insert(short_run.end(), {"--frames", "2"});
+  auto result = run_program(short_run, dir.file("second.txt"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(
+      result.error_text.find("out: in use by another weft run (pid " + std::to_string(first) + " on host "),
+      std::string::npos)
+      << result.error_text;
+  kill(first, SIGINT);
+  EXPECT_EQ(testing::wait_program(first, dir.file("first.txt")).exit_code, 130);
+  EXPECT_FALSE(fs::exists(out / ".weft.lock"));
+
+  // A lock left by a process that died (here: one that has exited) is taken over, with a note.
+  const pid_t gone = testing::start_program({"/bin/true"}, dir.file("true.txt"));
+  testing::wait_program(gone, dir.file("true.txt"));
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  std::ofstream(out / ".weft.lock") << "host " << host << "\npid " << gone << "\nstart 0\n";
+  result = run_program(short_run, dir.file("third.txt"));
+  EXPECT_EQ(result.exit_code, 0) << result.error_text;
+  EXPECT_NE(result.error_text.find("took over the lock of pid " + std::to_string(gone) + " on host " + host +
+                                   ", which is no longer running"),
+            std::string::npos)
+      << result.error_text;
+  EXPECT_FALSE(fs::exists(out / ".weft.lock"));
 }
 
 TEST(HeadlessRunner, InterruptLeavesEveryWrittenFrameIntact) {

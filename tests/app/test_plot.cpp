@@ -3,6 +3,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 #include "support/files.hpp"
 #include "support/run_program.hpp"
@@ -44,6 +45,34 @@ TEST(Plot, AFolderWithoutStatsIsAnError) {
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_NE(result.error_text.find("expected a run folder with stats.csv"), std::string::npos)
       << result.error_text;
+}
+
+TEST(Plot, AGarbageStatsFileIsNamedWithItsLineBeforeGnuplot) {
+  TempDir dir("weft_plot_garbage");
+  std::ofstream(dir.path() / "stats.csv") << "hello,world\n1,2\n";
+  auto result = run_program({weft_program, "plot", dir.path().string()}, dir.file("header.txt"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.error_text.find(
+                "stats.csv: line 1: expected the stats header of a weft run, with a \"frame\" column"),
+            std::string::npos)
+      << result.error_text;
+
+  // A real run's stats with a damaged row.
+  const fs::path out = dir.path() / "run";
+  ASSERT_EQ(run_program({weft_program, "--headless", drape_scene, "--out", out.string(), "--quiet",
+                         "--frames", "2", "--set", "cloths.0.grid.resolution=[6,6]"},
+                        dir.file("run.txt"))
+                .exit_code,
+            0);
+  std::ofstream(out / "stats.csv", std::ios::app) << "3,0.1,\x01\xff,garbage\n";
+  result = run_program({weft_program, "plot", out.string()}, dir.file("row.txt"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.error_text.find(
+                "stats.csv: line 5: expected 35 comma-separated numbers (one per header column), "
+                "got 4 fields"),
+            std::string::npos)
+      << result.error_text;
+  EXPECT_FALSE(fs::exists(out / "energy.png"));
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // per run), and as a SLURM array script that passes `bash -n` and runs its cases locally with
 // SLURM_ARRAY_TASK_ID set, giving the same recordings.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -73,6 +74,57 @@ TEST(Sweep, RunsEveryCaseLocallyWithAProgressLineEach) {
       run_program({weft_program, "sweep", write_sweep(dir), "--out", out.string()}, dir.file("again.txt"));
   EXPECT_EQ(again.exit_code, 0) << again.error_text;
   EXPECT_EQ(count(again.error_text, "already complete"), 4) << again.error_text;
+}
+
+TEST(Sweep, ACaseWhoseDefinitionChangedRunsAgain) {
+  TempDir dir("weft_sweep_changed");
+  const fs::path out = dir.path() / "sweep";
+  const std::string sweep = write_sweep(dir);
+  ASSERT_EQ(run_program({weft_program, "sweep", sweep, "--out", out.string()}, dir.file("a.txt")).exit_code,
+            0);
+  // Five frames instead of four: every case's recording is of another scene now.
+  std::string text = read_bytes(sweep);
+  text.replace(text.find("\"frames\": 4"), 11, "\"frames\": 5");
+  std::ofstream(sweep) << text;
+  const auto result = run_program({weft_program, "sweep", sweep, "--out", out.string()}, dir.file("b.txt"));
+  EXPECT_EQ(result.exit_code, 0) << result.error_text;
+  EXPECT_EQ(count(result.error_text, "changed since it ran (the scene differs at /frames); running it again"),
+            4)
+      << result.error_text;
+  EXPECT_EQ(count(result.error_text, "already complete"), 0) << result.error_text;
+  EXPECT_EQ(read_json(out / case_names[0] / "run.json")["scene"]["frames"], 5);
+}
+
+TEST(Sweep, OneSweepPerFolderAndOneWriterPerCase) {
+  TempDir dir("weft_sweep_locked");
+  const fs::path out = dir.path() / "sweep";
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  const std::string held_by_us =
+      "host " + std::string(host) + "\npid " + std::to_string(getpid()) + "\nstart 0\n";
+  // The sweep folder held by a live process (this test): the sweep is refused before any case runs.
+  fs::create_directories(out);
+  std::ofstream(out / ".weft.lock") << held_by_us;
+  auto result =
+      run_program({weft_program, "sweep", write_sweep(dir), "--out", out.string()}, dir.file("a.txt"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.error_text.find("in use by another weft run (pid " + std::to_string(getpid())),
+            std::string::npos)
+      << result.error_text;
+  EXPECT_FALSE(fs::exists(out / case_names[0]));
+  fs::remove(out / ".weft.lock");
+
+  // One case folder held: that case fails, naming the holder in its log; the others complete.
+  fs::create_directories(out / case_names[1]);
+  std::ofstream(out / case_names[1] / ".weft.lock") << held_by_us;
+  result = run_program({weft_program, "sweep", write_sweep(dir), "--out", out.string()}, dir.file("b.txt"));
+  EXPECT_EQ(result.exit_code, 5);
+  EXPECT_NE(result.error_text.find(case_names[1] + " bad input (exit 2)"), std::string::npos)
+      << result.error_text;
+  EXPECT_NE(read_bytes(out / case_names[1] / "log.txt").find("in use by another weft run"),
+            std::string::npos);
+  EXPECT_EQ(read_json(out / case_names[0] / "run.json")["status"], "complete");
+  EXPECT_FALSE(fs::exists(out / ".weft.lock"));
 }
 
 TEST(Sweep, SlurmScriptPassesBashCheckAndRunsArrayCasesLocally) {

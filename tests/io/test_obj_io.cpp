@@ -179,7 +179,17 @@ TEST(ObjIo, GarbageFile) {
   expect_read_error(write_text(dir, "nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n"),
                     "line 3: non-finite coordinate");
   expect_read_error(write_text(dir, "repeated.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2\n"),
-                    "repeats vertex");
+                    "line 4: triangle 1 repeats vertex");
+}
+
+TEST(ObjIo, ZeroLengthEdgeNamesLineTriangleAndVertices) {
+  TempDir dir("weft_obj");
+  expect_read_error(
+      write_text(dir, "zero_edge.obj", "v 0 0 0\nv 1 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n# x\nf 2 3 4\n"),
+      "zero_edge.obj: line 7: triangle 2 has a zero-length edge: vertices 2 and 3 are both at (1, 0, 0)");
+  // A quad makes two triangles of one line.
+  expect_read_error(write_text(dir, "zero_quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 1 1 0\nf 1 2 3 4\n"),
+                    "line 5: triangle 2 has a zero-length edge");
 }
 
 TEST(ObjIo, IndexOutOfRange) {

@@ -81,7 +81,8 @@ TEST(SceneFile, OutOfRangeValuesAreRejected) {
   expect_scene_error(minimal_scene, {"cloths.0.density=0"}, "/cloths/0/density", "> 0");
   expect_scene_error(minimal_scene, {"cloths.0.grid.resolution=[1,4]"}, "/cloths/0/grid/resolution/0",
                      "expected an integer in [2, 4096]");
-  expect_scene_error(minimal_scene, {"fps=0"}, "/fps", "> 0");
+  expect_scene_error(minimal_scene, {"fps=0"}, "/fps", "in [1, 10000]");
+  expect_scene_error(minimal_scene, {"fps=1e300"}, "/fps", "in [1, 10000]");
   expect_scene_error(minimal_scene, {"frames=-3"}, "/frames", "expected an integer in [0,");
   expect_scene_error(minimal_scene, {"colliders.0.radius=0"}, "/colliders/0/radius", "> 0");
   expect_scene_error(minimal_scene, {"cloths.0.springs.bend.stiffness=-5"}, "/cloths/0/springs/bend/stiffness",
@@ -125,6 +126,32 @@ TEST(SceneFile, NonFiniteNumbersAreRejected) {
     EXPECT_EQ(error.json_path(), "/gravity/1");
     EXPECT_NE(std::string(error.what()).find("finite"), std::string::npos) << error.what();
   }
+}
+
+TEST(SceneFile, FramesNeedingMoreThanTheBoundOfSubStepsAreRefused) {
+  // 30 fps at h = 0.001 is 34 steps a frame.
+  expect_scene_error(
+      minimal_scene, {"solver.time_step=1e-12"}, "/solver/time_step",
+      "expected a time step of at least 3.333e-08 s at 30 fps, got 1e-12: 3.333e+10 sub-steps");
+  expect_scene_error(minimal_scene, {"solver.substeps=100000"}, "/solver/substeps",
+                     "expected at most 29411 substeps with 34 steps per frame, got 100000");
+  expect_scene_error(minimal_scene,
+                     {"solver.integrator=xpbd", "solver.substeps=100", "solver.xpbd.substeps=1000"},
+                     "/solver/xpbd/substeps", "expected at most 294 XPBD substeps with 3400 steps per frame");
+  // Just under the bound: accepted.
+  json document = json::parse(minimal_scene);
+  apply_override(document, "fps=1", "scene.json");
+  apply_override(document, "solver.time_step=1.000001e-6", "scene.json");
+  EXPECT_NO_THROW(parse_scene(document, "scene.json"));
+}
+
+TEST(SceneFile, ContactThicknessBeyondATenthOfTheClothIsRefused) {
+  // The 1 x 1 m cloth's diagonal is 1.414 m.
+  json document = json::parse(minimal_scene);
+  apply_override(document, "cloths.0.thickness=0.14", "scene.json");
+  EXPECT_NO_THROW(build_world(parse_scene(document, "scene.json")));
+  expect_scene_error(minimal_scene, {"cloths.0.thickness=0.15"}, "/cloths/0/thickness",
+                     "expected a contact thickness of at most 0.1414 m (10% of the cloth's size");
 }
 
 TEST(SceneFile, MissingObjFileNamesTheObjField) {

@@ -75,7 +75,10 @@ TEST(SweepFile, BadFilesNameTheFieldAndWhatWasExpected) {
                 .find("c.json: /grid/x: expected a non-empty array of values"),
             std::string::npos);
   EXPECT_NE(error_of(write(dir, "d.json", R"({"scene": "s.json", "grid": {"x": [1]}, "threads": 0})"))
-                .find("d.json: /threads: expected an integer >= 1, got 0"),
+                .find("d.json: /threads: expected an integer >= 1 and <= 256, got 0"),
+            std::string::npos);
+  EXPECT_NE(error_of(write(dir, "d2.json", R"({"scene": "s.json", "grid": {"x": [1]}, "threads": 100000})"))
+                .find("d2.json: /threads: expected an integer >= 1 and <= 256, got 100000"),
             std::string::npos);
   EXPECT_NE(error_of(write(dir, "e.json", R"({"scene": "s.json", "grid": {"x": [1]}, "format": "abc"})"))
                 .find("e.json: /format: expected \"pc2\", \"obj\" or \"both\""),

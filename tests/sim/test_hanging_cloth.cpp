@@ -2,6 +2,9 @@
 // pipeline's bookkeeping (time, frame schedule, energies) is consistent.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <stdexcept>
+
 #include "io/scene_builder.hpp"
 #include "io/scene_file.hpp"
 #include "sim/world.hpp"
@@ -62,6 +65,14 @@ TEST(HangingCloth, FrameScheduleCutsFramesIntoEqualSteps) {
   EXPECT_LE(odd.time_step, 0.001);
   EXPECT_NEAR(odd.time_step * odd.steps_per_frame, 1.0 / 30.0, 1e-15);
   EXPECT_EQ(frame_schedule(24.0, 1.0).steps_per_frame, 1);
+}
+
+TEST(HangingCloth, FrameScheduleRefusesStepCountsPastTheBound) {
+  // 3.3e10 steps once overflowed the int and came out as one step of 1/30 s.
+  EXPECT_THROW(frame_schedule(30.0, 1e-12), std::out_of_range);
+  EXPECT_DOUBLE_EQ(steps_per_frame(30.0, 1e-12), std::ceil(1.0 / 30.0 / 1e-12 - 1e-9));
+  EXPECT_EQ(frame_schedule(1.0, 1.0 / max_steps_per_frame).steps_per_frame, max_steps_per_frame);
+  EXPECT_THROW(frame_schedule(1.0, 0.99 / max_steps_per_frame), std::out_of_range);
 }
 
 TEST(HangingCloth, SubstepsAdvanceTimeByOneTimeStep) {
