@@ -117,6 +117,7 @@ ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<Ver
   std::iota(parent.begin(), parent.end(), 0);
   in_zone.assign(n, 0);
   members.clear();
+  members.reserve(n);  // once: a zone larger than any before must not allocate in a steady step
 
   const auto join = [&](int a, int b) {
     unite(parent, a, b);
@@ -130,6 +131,7 @@ ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<Ver
   const auto find_stretched = [&] {
     stretched.clear();
     if (strain == nullptr) return;
+    stretched.reserve(step.edges.cols());  // once: steady steps allocate nothing
     for (int e = 0; e < static_cast<int>(step.edges.cols()); ++e) {
       if (edge_over_limit(step, *strain, e)) stretched.push_back(e);
     }

@@ -75,8 +75,8 @@ double respond(CollisionStep& step, const ContactStencil& stencil, double distan
 
 }  // namespace
 
-int apply_proximity_response(CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
-                             const std::vector<EdgeEdgePair>& edge_edges, const ResponseSettings& settings,
+int apply_proximity_response(CollisionStep& step, PairRange<VertexFacePair> vertex_faces,
+                             PairRange<EdgeEdgePair> edge_edges, const ResponseSettings& settings,
                              std::vector<ContactRecord>* records) {
   int acted = 0;
   const Positions& x = step.x_start;

@@ -14,8 +14,8 @@ namespace weft {
 // Applies the proximity impulses to step.x_end and step.velocity and appends one record per pair
 // acted on to `records` (when not null). Pairs that share a vertex, or whose vertices all have
 // infinite mass, are skipped. Returns the number of pairs acted on.
-int apply_proximity_response(CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
-                             const std::vector<EdgeEdgePair>& edge_edges, const ResponseSettings& settings,
+int apply_proximity_response(CollisionStep& step, PairRange<VertexFacePair> vertex_faces,
+                             PairRange<EdgeEdgePair> edge_edges, const ResponseSettings& settings,
                              std::vector<ContactRecord>* records);
 
 }  // namespace weft

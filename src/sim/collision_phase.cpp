@@ -88,8 +88,8 @@ void CollisionPhase::set_meshes(const std::vector<Cloth>& cloths, const std::vec
     }
   }
   const int num_groups = num_cloths_ * static_cast<int>(meshes_.size());
-  group_vertex_faces_.assign(num_groups, {});
-  group_edge_edges_.assign(num_groups, {});
+  near_vertex_faces_.begin_counting(num_groups);
+  near_edge_edges_.begin_counting(num_groups);
 }
 
 void CollisionPhase::update_parameters(const std::vector<Cloth>& cloths,
@@ -290,26 +290,37 @@ void CollisionPhase::apply_proximity() {
     const double distance = edge_edge_closest(x.col(a[0]), x.col(a[1]), x.col(b[0]), x.col(b[1])).distance;
     near_edge_edge_[k] = distance < pair_thickness(a[0], b[0]);
   }
-  for (auto& group : group_vertex_faces_) group.clear();
-  for (auto& group : group_edge_edges_) group.clear();
+  // The near pairs by material group, in one array per kind, no larger than the candidates.
+  const int num_groups = near_vertex_faces_.num_groups();
+  near_vertex_faces_.pairs.reserve(vertex_faces.capacity());
+  near_edge_edges_.pairs.reserve(edge_edges.capacity());
+  near_vertex_faces_.begin_counting(num_groups);
+  near_edge_edges_.begin_counting(num_groups);
   for (int k = 0; k < num_vertex_faces; ++k) {
-    if (!near_vertex_face_[k]) continue;
-    group_vertex_faces_[vertex_face_group(vertex_faces[k])].push_back(vertex_faces[k]);
+    if (near_vertex_face_[k]) near_vertex_faces_.count(vertex_face_group(vertex_faces[k]));
   }
   for (int k = 0; k < num_edge_edges; ++k) {
-    if (!near_edge_edge_[k]) continue;
-    group_edge_edges_[edge_edge_group(edge_edges[k])].push_back(edge_edges[k]);
+    if (near_edge_edge_[k]) near_edge_edges_.count(edge_edge_group(edge_edges[k]));
+  }
+  near_vertex_faces_.place_counted();
+  near_edge_edges_.place_counted();
+  for (int k = 0; k < num_vertex_faces; ++k) {
+    if (near_vertex_face_[k]) near_vertex_faces_.place(vertex_face_group(vertex_faces[k]), vertex_faces[k]);
+  }
+  for (int k = 0; k < num_edge_edges; ++k) {
+    if (near_edge_edge_[k]) near_edge_edges_.place(edge_edge_group(edge_edges[k]), edge_edges[k]);
   }
   stats_.narrow_ms += milliseconds_since(start);
 
   start = Clock::now();
   CollisionStep step = make_step();
   const size_t first_record = records_.size();
-  for (size_t group = 0; group < group_vertex_faces_.size(); ++group) {
-    if (group_vertex_faces_[group].empty() && group_edge_edges_[group].empty()) continue;
-    stats_.proximity_contacts +=
-        apply_proximity_response(step, group_vertex_faces_[group], group_edge_edges_[group],
-                                 response_settings(static_cast<int>(group)), &records_);
+  for (int group = 0; group < num_groups; ++group) {
+    const PairRange<VertexFacePair> group_vertex_faces = near_vertex_faces_.group(group);
+    const PairRange<EdgeEdgePair> group_edge_edges = near_edge_edges_.group(group);
+    if (group_vertex_faces.empty() && group_edge_edges.empty()) continue;
+    stats_.proximity_contacts += apply_proximity_response(step, group_vertex_faces, group_edge_edges,
+                                                          response_settings(group), &records_);
   }
   label_records(first_record);
   stats_.response_ms += milliseconds_since(start);
@@ -350,15 +361,15 @@ void CollisionPhase::penalty_contacts(int cloth, ContactPenalty& penalty) {
     }
     if (touches) penalty.contacts.push_back(contact);
   };
-  for (size_t group = 0; group < group_vertex_faces_.size(); ++group) {
-    for (const VertexFacePair& pair : group_vertex_faces_[group]) {
+  for (int group = 0; group < near_vertex_faces_.num_groups(); ++group) {
+    for (const VertexFacePair& pair : near_vertex_faces_.group(group)) {
       const auto corners = triangles_.col(pair.triangle);
       const PointTriangleClosest closest =
           point_triangle_closest(x.col(pair.vertex), x.col(corners[0]), x.col(corners[1]), x.col(corners[2]));
       add(vertex_face_stencil(step, pair.vertex, pair.triangle, closest.barycentric, Vec3::Zero()),
           x.col(pair.vertex) - closest.closest, pair_thickness(pair.vertex, corners[0]));
     }
-    for (const EdgeEdgePair& pair : group_edge_edges_[group]) {
+    for (const EdgeEdgePair& pair : near_edge_edges_.group(group)) {
       const auto a = edges_.col(pair.edge_a);
       const auto b = edges_.col(pair.edge_b);
       const EdgeEdgeClosest closest = edge_edge_closest(x.col(a[0]), x.col(a[1]), x.col(b[0]), x.col(b[1]));
@@ -370,27 +381,43 @@ void CollisionPhase::penalty_contacts(int cloth, ContactPenalty& penalty) {
 
 std::vector<std::array<int, 3>> CollisionPhase::near_pairs() const {
   std::vector<std::array<int, 3>> pairs;
-  for (size_t group = 0; group < group_vertex_faces_.size(); ++group) {
-    for (const VertexFacePair& pair : group_vertex_faces_[group]) pairs.push_back({0, pair.vertex, pair.triangle});
-    for (const EdgeEdgePair& pair : group_edge_edges_[group]) pairs.push_back({1, pair.edge_a, pair.edge_b});
+  for (int group = 0; group < near_vertex_faces_.num_groups(); ++group) {
+    for (const VertexFacePair& pair : near_vertex_faces_.group(group)) pairs.push_back({0, pair.vertex, pair.triangle});
+    for (const EdgeEdgePair& pair : near_edge_edges_.group(group)) pairs.push_back({1, pair.edge_a, pair.edge_b});
   }
   return pairs;
 }
 
 void CollisionPhase::set_near_pairs(const std::vector<std::array<int, 3>>& pairs) {
-  for (auto& group : group_vertex_faces_) group.clear();
-  for (auto& group : group_edge_edges_) group.clear();
   const int vertices = static_cast<int>(x_start_.cols());
   const int triangles = static_cast<int>(triangles_.cols());
   const int edges = static_cast<int>(edges_.cols());
   const auto in = [](int index, int size) { return index >= 0 && index < size; };
-  for (const auto& [kind, a, b] : pairs) {
-    if (kind == 0 && in(a, vertices) && in(b, triangles)) {
-      const VertexFacePair pair{a, b};
-      group_vertex_faces_[vertex_face_group(pair)].push_back(pair);
-    } else if (kind == 1 && in(a, edges) && in(b, edges)) {
-      const EdgeEdgePair pair{a, b};
-      group_edge_edges_[edge_edge_group(pair)].push_back(pair);
+  const int num_groups = near_vertex_faces_.num_groups();
+  near_vertex_faces_.begin_counting(num_groups);
+  near_edge_edges_.begin_counting(num_groups);
+  // Counted, then placed, in the order given (the order near_pairs() wrote them in).
+  for (const bool placing : {false, true}) {
+    for (const auto& [kind, a, b] : pairs) {
+      if (kind == 0 && in(a, vertices) && in(b, triangles)) {
+        const VertexFacePair pair{a, b};
+        if (placing) {
+          near_vertex_faces_.place(vertex_face_group(pair), pair);
+        } else {
+          near_vertex_faces_.count(vertex_face_group(pair));
+        }
+      } else if (kind == 1 && in(a, edges) && in(b, edges)) {
+        const EdgeEdgePair pair{a, b};
+        if (placing) {
+          near_edge_edges_.place(edge_edge_group(pair), pair);
+        } else {
+          near_edge_edges_.count(edge_edge_group(pair));
+        }
+      }
+    }
+    if (!placing) {
+      near_vertex_faces_.place_counted();
+      near_edge_edges_.place_counted();
     }
   }
 }

@@ -211,8 +211,8 @@ class CollisionPhase {
   std::vector<char> escaped_flags_;     // per vertex
   std::vector<int> escaped_triangles_;  // of one cloth, around escaped vertices
   std::vector<int> box_triangles_;      // find_pairs_of's scratch
-  std::vector<std::vector<VertexFacePair>> group_vertex_faces_;
-  std::vector<std::vector<EdgeEdgePair>> group_edge_edges_;
+  GroupedPairs<VertexFacePair> near_vertex_faces_;  // the last proximity phase's pairs by material group
+  GroupedPairs<EdgeEdgePair> near_edge_edges_;
   std::vector<char> near_vertex_face_;
   std::vector<char> near_edge_edge_;
   CcdCollisions collisions_;

@@ -67,9 +67,9 @@ TEST(Plot, AGarbageStatsFileIsNamedWithItsLineBeforeGnuplot) {
   std::ofstream(out / "stats.csv", std::ios::app) << "3,0.1,\x01\xff,garbage\n";
   result = run_program({weft_program, "plot", out.string()}, dir.file("row.txt"));
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_NE(result.error_text.find(
-                "stats.csv: line 5: expected 35 comma-separated numbers (one per header column), "
-                "got 4 fields"),
+  // As many numbers as the header has columns (the count grows with stats.csv's columns).
+  EXPECT_NE(result.error_text.find("stats.csv: line 5: expected "), std::string::npos) << result.error_text;
+  EXPECT_NE(result.error_text.find(" comma-separated numbers (one per header column), got 4 fields"),
             std::string::npos)
       << result.error_text;
   EXPECT_FALSE(fs::exists(out / "energy.png"));

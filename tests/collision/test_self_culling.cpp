@@ -22,7 +22,7 @@ std::vector<TrianglePair> culled_pairs(const Bvh& bvh, SelfCulling& culling, con
   culling.update(bvh, x_start, x_end, margin);
   BvhQueryBuffers buffers;
   std::vector<TrianglePair> pairs;
-  find_self_pairs(bvh, buffers, pairs, SharedVertexPairs::skip, &culling.culled());
+  find_self_pairs(bvh, buffers, pairs, SharedVertexPairs::keep, &culling.culled());  // as the collision phase
   return pairs;
 }
 
@@ -95,7 +95,7 @@ TEST(SelfCulling, FoldedSheetKeepsThePairsBetweenItsLayers) {
   }
   Bvh bvh;
   bvh.build(x, grid.triangles, 0.0025);
-  const std::vector<TrianglePair> all = find_self_pairs(bvh);
+  const std::vector<TrianglePair> all = find_self_pairs(bvh, SharedVertexPairs::keep);
   SelfCulling culling;
   const std::vector<TrianglePair> kept = culled_pairs(bvh, culling, x, x, 0.005);
   EXPECT_FALSE(culling.culled()[0]);
@@ -112,7 +112,8 @@ TEST(SelfCulling, FoldedSheetKeepsThePairsBetweenItsLayers) {
 }
 
 // Random motions of a grid, from gentle waves to crumpling: the culled query is a subset of the
-// full one, and no pair it drops intersects at any of 9 times through the step.
+// full one, and no pair it drops intersects (by the standard definition, neighbours included) at
+// any of 9 times through the step.
 TEST(SelfCulling, DroppedPairsNeverIntersectDuringTheStep) {
   const int n = 16;
   const TriangleMesh grid = make_grid(n, n, 1.0, 1.0, GridTriangulation::alternating);
@@ -138,7 +139,7 @@ TEST(SelfCulling, DroppedPairsNeverIntersectDuringTheStep) {
     const Positions x_end = shape(px + 0.5 * unit(rng), py + 0.5 * unit(rng), k);
     Bvh bvh;
     bvh.build(x_start, x_end, grid.triangles, 0.0025);
-    const std::vector<TrianglePair> all = find_self_pairs(bvh);
+    const std::vector<TrianglePair> all = find_self_pairs(bvh, SharedVertexPairs::keep);
     SelfCulling culling;
     const std::vector<TrianglePair> kept = culled_pairs(bvh, culling, x_start, x_end, 0.005);
     ASSERT_TRUE(std::includes(all.begin(), all.end(), kept.begin(), kept.end())) << "trial " << trial;
@@ -150,10 +151,9 @@ TEST(SelfCulling, DroppedPairsNeverIntersectDuringTheStep) {
     for (int step = 0; step <= 8; ++step) {
       const double t = step / 8.0;
       const Positions x = (1.0 - t) * x_start + t * x_end;
-      for (const TrianglePair& pair : dropped) {
-        const auto corner = [&](int triangle, int k) { return Vec3(x.col(grid.triangles(k, triangle))); };
-        ASSERT_FALSE(triangles_intersect(corner(pair.a, 0), corner(pair.a, 1), corner(pair.a, 2), corner(pair.b, 0),
-                                         corner(pair.b, 1), corner(pair.b, 2)))
+      for (const TriangleIntersection& hit : find_triangle_intersections(x, grid.triangles)) {
+        const TrianglePair pair{hit.triangle_a, hit.triangle_b};
+        ASSERT_FALSE(std::binary_search(dropped.begin(), dropped.end(), pair))
             << "trial " << trial << " t " << t << " dropped pair " << pair.a << " " << pair.b;
       }
     }
@@ -185,18 +185,13 @@ TEST(SelfCulling, RampPassingThroughItselfKeepsItsCollidingPairs) {
   const Positions x_end = wind(-0.02);
   Bvh bvh;
   bvh.build(x_start, x_end, grid.triangles, 0.0025);
-  const std::vector<TrianglePair> all = find_self_pairs(bvh);
   SelfCulling culling;
   const std::vector<TrianglePair> kept = culled_pairs(bvh, culling, x_start, x_end, 0.005);
   const Positions middle = 0.5 * (x_start + x_end);  // flat: the overlapping turns coincide
   int colliding = 0;
-  for (const TrianglePair& pair : all) {
-    const auto corner = [&](int triangle, int k) { return Vec3(middle.col(grid.triangles(k, triangle))); };
-    if (!triangles_intersect(corner(pair.a, 0), corner(pair.a, 1), corner(pair.a, 2), corner(pair.b, 0),
-                             corner(pair.b, 1), corner(pair.b, 2))) {
-      continue;
-    }
+  for (const TriangleIntersection& hit : find_triangle_intersections(middle, grid.triangles)) {
     ++colliding;
+    const TrianglePair pair{hit.triangle_a, hit.triangle_b};
     EXPECT_TRUE(std::binary_search(kept.begin(), kept.end(), pair)) << pair.a << " " << pair.b;
   }
   EXPECT_GT(colliding, 20) << "the ramp does pass through itself";

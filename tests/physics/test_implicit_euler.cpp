@@ -187,6 +187,7 @@ World small_hanging_cloth(double size, int resolution, double h, const std::stri
       "density": 0.2,
       "membrane": {"young_modulus": 1e6, "poisson_ratio": 0.3, "thickness": 5e-4},
       "bending": {"stiffness": 1e-4},
+      "thickness": 1e-4,
       "pins": {"corners": ["top_left", "top_right"]}}],
     "collision": {"enabled": false}})");
   scene["solver"]["time_step"] = h;

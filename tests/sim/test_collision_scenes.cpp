@@ -119,6 +119,19 @@ TEST(CollisionScenes, TwistStaysClean) {
   EXPECT_GT(run.steps_with_contacts, 10) << "a twisted cloth touches itself";
 }
 
+TEST(CollisionScenes, FiveTurnTwistStaysCleanAndWithinTheStrainLimit) {
+  // Five full turns (1800 degrees) in 2.5 s instead of 5 s at 16x8, Newton capped at 10
+  // iterations as above: the rope winds tight, the zones grow large, and every edge must stay
+  // within 2x (strain_limit 1) in every frame.
+  const SceneDesc scene =
+      load("twist_five_turns", {"cloths.0.grid.resolution=[16,8]", "cloths.0.moving_pins.0.angular_velocity_degrees=720",
+                                "solver.newton.max_iterations=10"});
+  World world = build_world(scene);
+  const SceneRun run = run_checked(world, scene, 75);
+  expect_clean(run, 75);
+  EXPECT_GT(run.steps_with_contacts, 100) << "a twisted cloth touches itself";
+}
+
 TEST(CollisionScenes, FastDropStaysClean) {
   const SceneDesc scene = load("fast_drop", {"cloths.0.grid.resolution=[12,12]"});
   World world = build_world(scene);
