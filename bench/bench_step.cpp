@@ -26,7 +26,8 @@ World grid_world(int n, IntegratorKind integrator) {
   scene.integrator = integrator;
   scene.cloths.push_back(cloth);
   World world = build_world(scene);
-  if (integrator == IntegratorKind::symplectic_euler || integrator == IntegratorKind::midpoint) {
+  if (integrator == IntegratorKind::symplectic_euler || integrator == IntegratorKind::midpoint_euler_cromer ||
+      integrator == IntegratorKind::explicit_midpoint) {
     // 2 sqrt(m / (2 k_sum)) bounds the limit from below (k_sum: springs pulling on one vertex).
     const double vertex_mass = cloth.density * cloth.grid_width * cloth.grid_height / (n * n);
     const double k_sum = 4.0 * (cloth.structural.stiffness + cloth.shear.stiffness + cloth.bend.stiffness);
@@ -68,7 +69,9 @@ void grid_sizes_and_threads(benchmark::internal::Benchmark* benchmark) {
 
 BENCHMARK_CAPTURE(step_benchmark, symplectic_euler, IntegratorKind::symplectic_euler)
     ->Apply(grid_sizes_and_threads);
-BENCHMARK_CAPTURE(step_benchmark, midpoint, IntegratorKind::midpoint)->Apply(grid_sizes_and_threads);
+BENCHMARK_CAPTURE(step_benchmark, midpoint_euler_cromer, IntegratorKind::midpoint_euler_cromer)
+    ->Apply(grid_sizes_and_threads);
+BENCHMARK_CAPTURE(step_benchmark, explicit_midpoint, IntegratorKind::explicit_midpoint)->Apply(grid_sizes_and_threads);
 BENCHMARK_CAPTURE(step_benchmark, implicit_euler, IntegratorKind::implicit_euler)
     ->Apply(grid_sizes_and_threads);
 BENCHMARK_CAPTURE(step_benchmark, implicit_euler_cholesky, IntegratorKind::implicit_euler,

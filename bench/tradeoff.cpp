@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
     const double sample = 1.0 / 120.0;
     const double reference_h = 1.0 / 128000.0;
     std::printf("reference: midpoint at h = 1/%.0f s over %.3g s\n", 1.0 / reference_h, duration);
-    const Run reference = simulate(scene, IntegratorKind::midpoint, reference_h, duration, sample);
+    const Run reference = simulate(scene, IntegratorKind::explicit_midpoint, reference_h, duration, sample);
     if (!reference.stable) {
       std::fprintf(stderr, "weft_tradeoff: %s: the reference run (midpoint, h = %.3g s) is unstable\n", argv[1],
                    reference_h);
@@ -134,8 +134,9 @@ int main(int argc, char** argv) {
     csv << "integrator,h,wall_s_per_sim_s,position_error_m,energy_drift,largest_strain,stable\n";
     const std::vector<double> steps = {1.0 / 16000, 1.0 / 8000, 1.0 / 4000, 1.0 / 2000, 1.0 / 1000,
                                        1.0 / 480,   1.0 / 240,  1.0 / 120,  1.0 / 60,   1.0 / 24};
-    for (IntegratorKind integrator : {IntegratorKind::symplectic_euler, IntegratorKind::midpoint,
-                                      IntegratorKind::implicit_euler, IntegratorKind::xpbd}) {
+    for (IntegratorKind integrator : {IntegratorKind::symplectic_euler, IntegratorKind::midpoint_euler_cromer,
+                                      IntegratorKind::explicit_midpoint, IntegratorKind::implicit_euler,
+                                      IntegratorKind::xpbd}) {
       for (double h : steps) {
         const Run run = simulate(scene, integrator, h, duration, sample);
         const double error = run.stable ? (run.x - reference.x).colwise().norm().maxCoeff() : NAN;
@@ -166,8 +167,8 @@ int main(int argc, char** argv) {
        << "set ylabel 'largest position error at t = " << duration << " s (m)'\n"
        << "set key top right\n"
        << "plot ";
-    const char* names[] = {"symplectic_euler", "midpoint", "implicit_euler", "xpbd"};
-    for (int k = 0; k < 4; ++k) {
+    const char* names[] = {"symplectic_euler", "midpoint_euler_cromer", "explicit_midpoint", "implicit_euler", "xpbd"};
+    for (int k = 0; k < 5; ++k) {
       const std::string filter = "(strcol(1) eq '" + std::string(names[k]) + "' && strcol(7) eq 'yes' ? ";
       gp << (k ? ", \\\n     " : "") << gnuplot_quote(csv_path) << " every ::1 using " << filter << "$3 : NaN):4 with linespoints pt "
          << (k + 5) << " title '" << names[k] << "', \\\n     " << gnuplot_quote(csv_path) << " every ::1 using " << filter

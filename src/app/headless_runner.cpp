@@ -363,6 +363,23 @@ int Run::record_and_step() {
       problem = check_state(world_, options_.limits);
     }
     if (!problem.found) problem = check_strain(world_, options_.limits);
+    if (!problem.found && frame_steps.unmet_tolerance_steps > 0) {
+      // Adaptive stepping reached its smallest step with the error estimate still too large.
+      progress.finish(frames_written_ - 1);
+      char message[512];
+      std::snprintf(message, sizeof message,
+                    "adaptive stepping could not meet solver.adaptive.tolerance = %.3g m in frame %d (t = %.6g s): %d "
+                    "steps at solver.adaptive.min_step = %.3g s still estimated a larger local error",
+                    scene_.adaptive.tolerance, frame, world_.time(), frame_steps.unmet_tolerance_steps,
+                    scene_.adaptive.h_min);
+      std::fprintf(stderr,
+                   "weft: %s. Frames 0..%d are written. Lower min_step, raise the tolerance, or use "
+                   "implicit_euler.\n",
+                   message, frames_written_ - 1);
+      write_run_json("diverged");
+      write_summary("diverged", exit_diverged, {{"frame", frame}, {"time", world_.time()}, {"message", message}});
+      return exit_diverged;
+    }
     if (problem.found) {
       progress.finish(frames_written_ - 1);
       std::fprintf(stderr,

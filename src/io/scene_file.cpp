@@ -174,7 +174,8 @@ const std::vector<std::pair<std::string, ColliderShape>> collider_shape_names = 
     {"capsule", ColliderShape::capsule}, {"cylinder", ColliderShape::cylinder}, {"mesh", ColliderShape::mesh}};
 const std::vector<std::pair<std::string, IntegratorKind>> integrator_names = {
     {"symplectic_euler", IntegratorKind::symplectic_euler},
-    {"midpoint", IntegratorKind::midpoint},
+    {"midpoint_euler_cromer", IntegratorKind::midpoint_euler_cromer},
+    {"explicit_midpoint", IntegratorKind::explicit_midpoint},
     {"implicit_euler", IntegratorKind::implicit_euler},
     {"xpbd", IntegratorKind::xpbd}};
 const std::vector<std::pair<std::string, LinearSolverKind>> linear_solver_names = {

@@ -129,22 +129,28 @@ void World::integrate(double h, StepStats& stats) {
 }
 
 void World::integrate_cloth(Cloth& cloth, ClothSolvers& solvers, double h, StepStats& stats) {
-  const bool explicit_integrator =
-      settings.integrator == IntegratorKind::symplectic_euler || settings.integrator == IntegratorKind::midpoint;
+  const bool explicit_integrator = settings.integrator == IntegratorKind::symplectic_euler ||
+                                   settings.integrator == IntegratorKind::midpoint_euler_cromer ||
+                                   settings.integrator == IntegratorKind::explicit_midpoint;
   if (explicit_integrator && settings.adaptive.enabled) {
     const int accepted = solvers.adaptive.accepted, rejected = solvers.adaptive.rejected;
+    const int unmet = solvers.adaptive.unmet;
     adaptive_advance(cloth, settings.integrator, settings.gravity, h, settings.adaptive, solvers.adaptive,
                      solvers.explicit_workspace, solvers.trial);
     stats.accepted_steps += solvers.adaptive.accepted - accepted;
     stats.rejected_steps += solvers.adaptive.rejected - rejected;
+    stats.unmet_tolerance_steps += solvers.adaptive.unmet - unmet;
     return;
   }
   switch (settings.integrator) {
     case IntegratorKind::symplectic_euler:
       symplectic_euler_step(cloth, settings.gravity, h);
       break;
-    case IntegratorKind::midpoint:
-      midpoint_step(cloth, settings.gravity, h, solvers.explicit_workspace);
+    case IntegratorKind::midpoint_euler_cromer:
+      midpoint_euler_cromer_step(cloth, settings.gravity, h, solvers.explicit_workspace);
+      break;
+    case IntegratorKind::explicit_midpoint:
+      explicit_midpoint_step(cloth, settings.gravity, h, solvers.explicit_workspace);
       break;
     case IntegratorKind::implicit_euler: {
       const NewtonReport& report = solvers.implicit.step(cloth, settings.gravity, h, settings.implicit, &solvers.penalty);
@@ -245,6 +251,7 @@ StepStats& StepStats::operator+=(const StepStats& step) {
   linear_iterations += step.linear_iterations;
   accepted_steps += step.accepted_steps;
   rejected_steps += step.rejected_steps;
+  unmet_tolerance_steps += step.unmet_tolerance_steps;
   residual = std::max(residual, step.residual);
   unconverged_steps += step.unconverged_steps;
   return *this;

@@ -11,7 +11,8 @@
 #include "physics/cloth.hpp"
 #include "physics/implicit_euler.hpp"
 #include "physics/integrator.hpp"
-#include "physics/midpoint_euler.hpp"
+#include "physics/explicit_midpoint.hpp"
+#include "physics/midpoint_euler_cromer.hpp"
 #include "physics/xpbd.hpp"
 #include "sim/collision_phase.hpp"
 
@@ -60,6 +61,7 @@ struct StepStats {
   int linear_iterations = 0;     // conjugate-gradient iterations, summed likewise
   int accepted_steps = 0;        // adaptive stepping: steps taken
   int rejected_steps = 0;        // adaptive stepping: steps retried smaller
+  int unmet_tolerance_steps = 0; // adaptive stepping: steps taken at min_step above the tolerance
   double residual = 0.0;         // implicit Euler: largest final residual over cloths and steps, m/s
                                  // (physics/implicit_euler.hpp newton_residual)
   int unconverged_steps = 0;     // implicit Euler: cloth steps that ended with the residual above

@@ -27,8 +27,9 @@ void draw_solver_panel(SimulationSession& session) {
   ImGui::PushItemWidth(220.0f);  // room for the labels with their units
   SolverSettings& settings = session.world().settings;
   // Switching integrators between steps is safe: each keeps its own storage per cloth.
-  const IntegratorKind kinds[] = {IntegratorKind::symplectic_euler, IntegratorKind::midpoint,
-                                  IntegratorKind::implicit_euler, IntegratorKind::xpbd};
+  const IntegratorKind kinds[] = {IntegratorKind::symplectic_euler, IntegratorKind::midpoint_euler_cromer,
+                                  IntegratorKind::explicit_midpoint, IntegratorKind::implicit_euler,
+                                  IntegratorKind::xpbd};
   if (ImGui::BeginCombo("integrator", to_string(settings.integrator))) {
     for (IntegratorKind kind : kinds) {
       if (ImGui::Selectable(to_string(kind), kind == settings.integrator)) settings.integrator = kind;

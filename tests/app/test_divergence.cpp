@@ -97,5 +97,22 @@ TEST(Divergence, StrainPastTheBoundStops) {
   expect_last_good_frame_kept(out);
 }
 
+TEST(Divergence, AdaptiveSteppingThatCannotMeetItsToleranceStopsAndSaysSo) {
+  // min_step = max_step = 4 ms, ten times the default scene's explicit limit: no step the
+  // controller may take meets 1 um, and the run stops instead of reporting a bounded error.
+  TempDir dir("weft_diverge_adaptive");
+  const fs::path out = dir.path() / "run";
+  const auto result = run_program({weft_program, "--headless", default_scene, "--out", out.string(), "--quiet",
+                                   "--frames", "5", "--set", "cloths.0.grid.resolution=[8,8]", "--set",
+                                   "solver.adaptive={\"enabled\": true, \"tolerance\": 1e-6, \"min_step\": 0.004, "
+                                   "\"max_step\": 0.004}"},
+                                  dir.file("log.txt"));
+  EXPECT_EQ(result.exit_code, 3) << result.error_text;
+  EXPECT_NE(result.error_text.find("adaptive stepping could not meet solver.adaptive.tolerance"), std::string::npos)
+      << result.error_text;
+  EXPECT_EQ(read_json(out / "summary.json")["status"], "diverged");
+  expect_last_good_frame_kept(out);
+}
+
 }  // namespace
 }  // namespace weft

@@ -69,7 +69,7 @@ TEST(SceneFile, WrongTypesNameWhatWasExpected) {
   expect_scene_error(minimal_scene, {"cloths.0.grid.resolution=[4,4.5]"}, "/cloths/0/grid/resolution/1",
                      "expected an integer");
   expect_scene_error(minimal_scene, {"solver.integrator=runge_kutta"}, "/solver/integrator",
-                     "expected one of \"symplectic_euler\", \"midpoint\", \"implicit_euler\"");
+                     "expected one of \"symplectic_euler\", \"midpoint_euler_cromer\", \"explicit_midpoint\", \"implicit_euler\"");
   expect_scene_error(minimal_scene, {"cloths={}"}, "/cloths", "expected an array of cloths");
   expect_scene_error(minimal_scene, {"colliders.0.type=cone"}, "/colliders/0/type", "expected one of");
 }

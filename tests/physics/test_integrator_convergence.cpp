@@ -1,15 +1,22 @@
-// Global convergence order of the three integrators on a smooth scene without contact or
-// damping: a 6x6 spring cloth, pinned at two corners, falls and swings from rest under gravity.
-// Positions at time T integrated with h, h/2, h/4, h/8 are compared with a midpoint reference
-// at h/256; the least-squares slope of log(error) against log(h) is the observed order.
+// Global convergence order of the integrators on a smooth scene without contact or damping: a
+// 6x6 spring cloth, pinned at two corners, falls and swings from rest under gravity. Positions
+// at time T integrated with h, h/2, h/4, h/8 are compared with an explicit midpoint reference at
+// h/256; the least-squares slope of log(error) against log(h) is the observed order. The seed's
+// midpoint Euler-Cromer is also measured on a membrane cloth (StVK, hinge bending).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "io/scene_builder.hpp"
+#include "io/scene_file.hpp"
+#include "physics/explicit_midpoint.hpp"
 #include "physics/implicit_euler.hpp"
-#include "physics/midpoint_euler.hpp"
+#include "physics/midpoint_euler_cromer.hpp"
+#include "sim/world.hpp"
 #include "physics/symplectic_euler.hpp"
 #include "support/spring_cloth.hpp"
 
@@ -30,10 +37,9 @@ const Vec3 gravity(0.0, -9.81, 0.0);
 constexpr double duration = 0.25;        // s
 constexpr int coarse_steps = 500;        // h0 = T / 500 = 5e-4 s
 
-enum class Method { symplectic, midpoint, implicit };
+enum class Method { symplectic, midpoint, midpoint_euler_cromer, implicit };
 
-Positions integrate(Method method, int steps) {
-  Cloth cloth = swinging_cloth();
+Positions integrate(Method method, int steps, Cloth cloth = swinging_cloth()) {
   const double h = duration / steps;
   ExplicitWorkspace workspace;
   ImplicitEulerSolver solver;
@@ -47,7 +53,10 @@ Positions integrate(Method method, int steps) {
         symplectic_euler_step(cloth, gravity, h);
         break;
       case Method::midpoint:
-        midpoint_step(cloth, gravity, h, workspace);
+        explicit_midpoint_step(cloth, gravity, h, workspace);
+        break;
+      case Method::midpoint_euler_cromer:
+        midpoint_euler_cromer_step(cloth, gravity, h, workspace);
         break;
       case Method::implicit:
         solver.step(cloth, gravity, h, settings);
@@ -63,13 +72,14 @@ const Positions& reference_solution() {
 }
 
 // Least-squares slope of log(error) against log(h) over h0, h0/2, h0/4, h0/8.
-double observed_order(Method method, std::vector<double>& errors) {
-  const Positions& reference = reference_solution();
+double observed_order(Method method, std::vector<double>& errors, const Cloth& cloth = swinging_cloth(),
+                      const Positions* reference_positions = nullptr, int coarse = coarse_steps) {
+  const Positions& reference = reference_positions ? *reference_positions : reference_solution();
   std::vector<double> log_h, log_e;
   for (int refinement : {1, 2, 4, 8}) {
-    const double error = (integrate(method, refinement * coarse_steps) - reference).lpNorm<Eigen::Infinity>();
+    const double error = (integrate(method, refinement * coarse, cloth) - reference).lpNorm<Eigen::Infinity>();
     errors.push_back(error);
-    log_h.push_back(std::log(duration / (refinement * coarse_steps)));
+    log_h.push_back(std::log(duration / (refinement * coarse)));
     log_e.push_back(std::log(error));
   }
   const Eigen::Map<const Eigen::VectorXd> lh(log_h.data(), 4), le(log_e.data(), 4);
@@ -106,6 +116,48 @@ TEST(IntegratorConvergence, MidpointIsSecondOrder) {
   const double slope = observed_order(Method::midpoint, errors);
   print_errors("midpoint", errors, slope);
   EXPECT_NEAR(slope, 2.0, 0.15);
+}
+
+TEST(IntegratorConvergence, MidpointEulerCromerIsSecondOrder) {
+  std::vector<double> errors;
+  const double slope = observed_order(Method::midpoint_euler_cromer, errors);
+  print_errors("midpoint Euler-Cromer", errors, slope);
+  EXPECT_NEAR(slope, 2.0, 0.15);
+}
+
+// A 6x6 membrane cloth (StVK, hinge bending) 0.5 m wide pinned at two corners, swinging from
+// rest, with a given compression factor (the modulus under compression over the one under
+// tension: below 1 the stress-strain law has a kink at zero strain).
+Cloth membrane_cloth(double compression_factor) {
+  nlohmann::json scene = nlohmann::json::parse(R"({"cloths": [{
+      "grid": {"size": [0.5, 0.5], "resolution": [6, 6], "triangulation": "alternating"},
+      "density": 0.2,
+      "springs": {"structural": {"stiffness": 0, "damping": 0}, "shear": {"stiffness": 0, "damping": 0},
+                  "bend": {"stiffness": 0, "damping": 0}},
+      "membrane": {"young_modulus": 2e4, "poisson_ratio": 0.3, "thickness": 5e-4},
+      "bending": {"stiffness": 1e-5},
+      "pins": {"corners": ["top_left", "top_right"]}}]})");
+  scene["cloths"][0]["membrane"]["compression_factor"] = compression_factor;
+  World world = build_world(parse_scene(scene, "<inline>"));
+  return world.cloths()[0];
+}
+
+TEST(IntegratorConvergence, MidpointEulerCromerIsSecondOrderOnAMembrane) {
+  // h0 = T / 125 (membrane forces cost more than springs'); the explicit midpoint reference at
+  // h0 / 64. With the kink (compression factor 0.1, the scenes' default) the force is only
+  // Lipschitz where triangles cross zero strain, which can cost the order; on this swinging,
+  // mostly stretched cloth it measured 2.00 as well (2026-11-25). Printed, asserted for 1 only.
+  constexpr int coarse = 125;
+  for (const double compression_factor : {1.0, 0.1}) {
+    const Cloth cloth = membrane_cloth(compression_factor);
+    const Positions reference = integrate(Method::midpoint, 64 * coarse, cloth);
+    std::vector<double> errors;
+    const double slope = observed_order(Method::midpoint_euler_cromer, errors, cloth, &reference, coarse);
+    std::printf("compression factor %.1f: ", compression_factor);
+    print_errors("midpoint Euler-Cromer on a membrane", errors, slope);
+    EXPECT_GT((reference - cloth.state.x).lpNorm<Eigen::Infinity>(), 0.05) << "the cloth swings";
+    if (compression_factor == 1.0) EXPECT_NEAR(slope, 2.0, 0.15);
+  }
 }
 
 TEST(IntegratorConvergence, ImplicitEulerIsFirstOrder) {

@@ -15,7 +15,8 @@
 #include "physics/adaptive_stepping.hpp"
 #include "physics/cloth_terms.hpp"
 #include "physics/implicit_euler.hpp"
-#include "physics/midpoint_euler.hpp"
+#include "physics/explicit_midpoint.hpp"
+#include "physics/midpoint_euler_cromer.hpp"
 #include "physics/symplectic_euler.hpp"
 #include "physics/xpbd.hpp"
 #include "support/spring_cloth.hpp"
@@ -23,14 +24,22 @@
 namespace weft {
 namespace {
 
-// Does symplectic Euler with step h keep a small perturbation of the rest state small? Unstable
+// Which explicit scheme the stability searches below step with.
+enum class Scheme { symplectic_euler, midpoint_euler_cromer };
+
+// Does the scheme with step h keep a small perturbation of the rest state small? Unstable
 // means the displacement from rest grew 1000-fold within `steps` steps (a step just above the
 // limit grows like exp(2 sqrt(delta) n); one just below stays within ~1/sqrt(2 delta)).
-bool symplectic_stays_bounded(const Cloth& start, double h, int steps) {
+bool symplectic_stays_bounded(const Cloth& start, double h, int steps, Scheme scheme = Scheme::symplectic_euler) {
   Cloth cloth = start;
+  ExplicitWorkspace workspace;
   const double initial = (cloth.state.x - cloth.model.rest_positions).lpNorm<Eigen::Infinity>();
   for (int k = 0; k < steps; ++k) {
-    symplectic_euler_step(cloth, Vec3::Zero(), h);
+    if (scheme == Scheme::symplectic_euler) {
+      symplectic_euler_step(cloth, Vec3::Zero(), h);
+    } else {
+      midpoint_euler_cromer_step(cloth, Vec3::Zero(), h, workspace);
+    }
     if (k % 64 == 0 && !((cloth.state.x - cloth.model.rest_positions).lpNorm<Eigen::Infinity>() < 1e3 * initial)) {
       return false;
     }
@@ -39,12 +48,13 @@ bool symplectic_stays_bounded(const Cloth& start, double h, int steps) {
 }
 
 // Largest stable h by bisection in [lo, hi] (lo stable, hi unstable) to relative width 1e-5.
-double largest_stable_step(const Cloth& start, double lo, double hi, int steps) {
-  EXPECT_TRUE(symplectic_stays_bounded(start, lo, steps));
-  EXPECT_FALSE(symplectic_stays_bounded(start, hi, steps));
+double largest_stable_step(const Cloth& start, double lo, double hi, int steps,
+                           Scheme scheme = Scheme::symplectic_euler) {
+  EXPECT_TRUE(symplectic_stays_bounded(start, lo, steps, scheme));
+  EXPECT_FALSE(symplectic_stays_bounded(start, hi, steps, scheme));
   while (hi - lo > 1e-5 * lo) {
     const double mid = 0.5 * (lo + hi);
-    (symplectic_stays_bounded(start, mid, steps) ? lo : hi) = mid;
+    (symplectic_stays_bounded(start, mid, steps, scheme) ? lo : hi) = mid;
   }
   return lo;
 }
@@ -87,6 +97,50 @@ TEST(IntegratorStability, SymplecticEulerLimitOfOneSpringIsTwoSqrtMassOverStiffn
                 measured / predicted);
     EXPECT_NEAR(measured / predicted, 1.0, 1e-3) << "k/m = " << stiffness / mass;
   }
+}
+
+// Midpoint Euler-Cromer (kick-drift-kick) has symplectic Euler's limit, w h < 2: its step on
+// x'' = -w^2 x has the amplification matrix [[1 - a/2, h], [-(w^2 h)(1 - a/4), 1 - a/2]] with
+// a = (wh)^2, determinant 1 and trace 2 - a, so its eigenvalues stay on the unit circle (the
+// energy error stays bounded: no growth at any step below the limit) while |2 - a| < 2.
+TEST(IntegratorStability, MidpointEulerCromerLimitOfOneSpringIsTwoSqrtMassOverStiffness) {
+  for (const auto& [mass, stiffness] : {std::pair{1.0, 1.0}, {1e-3, 10.0}, {10.0, 1e5}, {1e-4, 1e4}}) {
+    Cloth cloth = spring_oscillator(mass, stiffness);
+    cloth.state.x(0, 1) += 1e-6;
+    const double predicted = 2.0 * std::sqrt(mass / stiffness);
+    const double measured =
+        largest_stable_step(cloth, 0.9 * predicted, 1.1 * predicted, 20000, Scheme::midpoint_euler_cromer);
+    std::printf("midpoint Euler-Cromer, k/m = %.0e: h_max / (2 sqrt(m/k)) = %.6f\n", stiffness / mass,
+                measured / predicted);
+    EXPECT_NEAR(measured / predicted, 1.0, 1e-3) << "k/m = " << stiffness / mass;
+  }
+}
+
+// Undamped, at half its limit, the spring's energy stays within a bounded band over 1e5 steps
+// (the modified energy of a symplectic scheme), where the explicit midpoint rule grows by
+// sqrt(1 + (wh)^4 / 4) a step.
+TEST(IntegratorStability, MidpointEulerCromerKeepsAnUndampedSpringsEnergyBounded) {
+  const double mass = 0.01, stiffness = 100.0, omega = std::sqrt(stiffness / mass);
+  const double h = 1.0 / omega;  // w h = 1: half the limit
+  const auto energy = [&](const Cloth& c) {
+    const double stretch = (c.state.x.col(1) - c.state.x.col(0)).norm() - 1.0;
+    return 0.5 * mass * c.state.v.col(1).squaredNorm() + 0.5 * stiffness * stretch * stretch;
+  };
+  Cloth leapfrog = spring_oscillator(mass, stiffness), runge_kutta = leapfrog;
+  leapfrog.state.x(0, 1) += 0.01;
+  runge_kutta.state.x(0, 1) += 0.01;
+  const double initial = energy(leapfrog);
+  ExplicitWorkspace workspace;
+  double worst = 0.0;
+  for (int k = 0; k < 100000; ++k) {
+    midpoint_euler_cromer_step(leapfrog, Vec3::Zero(), h, workspace);
+    worst = std::max(worst, std::abs(energy(leapfrog) / initial - 1.0));
+    if (k < 200) explicit_midpoint_step(runge_kutta, Vec3::Zero(), h, workspace);
+  }
+  std::printf("w h = 1: midpoint Euler-Cromer worst |E/E0 - 1| over 1e5 steps %.3f; explicit midpoint after 200 "
+              "steps E/E0 = %.3g\n", worst, energy(runge_kutta) / initial);
+  EXPECT_LT(worst, 0.5);  // the band of the modified energy at w h = 1 (1/(1 - (wh)^2/4) - 1 = 1/3)
+  EXPECT_GT(energy(runge_kutta) / initial, 1e5);  // sqrt(1.25)^400 = 1.5e19 in amplitude squared
 }
 
 // The limit of a cloth is 2/omega_max with omega_max^2 the largest eigenvalue of M^-1 K.
@@ -224,7 +278,7 @@ TEST(IntegratorStability, ExplicitIntegratorsStayFiniteWithNearlyDegenerateTrian
   ExplicitWorkspace workspace;
   const int steps = static_cast<int>(std::ceil(1.0 / h));
   for (int k = 0; k < steps; ++k) symplectic_euler_step(symplectic, gravity, h);
-  for (int k = 0; k < 2 * steps; ++k) midpoint_step(midpoint, gravity, 0.5 * h, workspace);
+  for (int k = 0; k < 2 * steps; ++k) explicit_midpoint_step(midpoint, gravity, 0.5 * h, workspace);
   for (const Cloth* cloth : {&symplectic, &midpoint}) {
     EXPECT_TRUE(cloth->state.x.allFinite());
     // Bounded: the 0.5 m cloth stays within 2 m of its pins.
@@ -263,7 +317,7 @@ TEST(IntegratorStability, FreeFallChangesMomentumByExactlyMassTimesGravityTimesT
   XpbdSolver xpbd;
   const std::vector<std::pair<const char*, std::function<void(Cloth&)>>> integrators = {
       {"symplectic_euler", [&](Cloth& c) { symplectic_euler_step(c, gravity, h); }},
-      {"midpoint", [&](Cloth& c) { midpoint_step(c, gravity, h, workspace); }},
+      {"explicit_midpoint", [&](Cloth& c) { explicit_midpoint_step(c, gravity, h, workspace); }},
       {"implicit_euler (cholesky)", [&](Cloth& c) { solver.step(c, gravity, h, cholesky); }},
       {"implicit_euler (cg)", [&](Cloth& c) { solver.step(c, gravity, h, conjugate_gradient); }},
       {"xpbd", [&](Cloth& c) { xpbd.step(c, gravity, h, XpbdSettings{3, 2}); }},
@@ -273,7 +327,7 @@ TEST(IntegratorStability, FreeFallChangesMomentumByExactlyMassTimesGravityTimesT
        }},
       {"adaptive midpoint",
        [&](Cloth& c) {
-         adaptive_advance(c, IntegratorKind::midpoint, gravity, h, adaptive, adaptive_state, workspace, trial);
+         adaptive_advance(c, IntegratorKind::explicit_midpoint, gravity, h, adaptive, adaptive_state, workspace, trial);
        }},
   };
   for (const auto& [name, advance] : integrators) {

@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "physics/midpoint_euler.hpp"
+#include "physics/explicit_midpoint.hpp"
 #include "support/spring_cloth.hpp"
 
 namespace weft {
@@ -30,7 +30,7 @@ TEST(Xpbd, OneSweepPerSubstepConvergesAtFirstOrder) {
   Cloth reference = swinging_cloth();
   ExplicitWorkspace workspace;
   const int reference_steps = 200000;
-  for (int k = 0; k < reference_steps; ++k) midpoint_step(reference, gravity, duration / reference_steps, workspace);
+  for (int k = 0; k < reference_steps; ++k) explicit_midpoint_step(reference, gravity, duration / reference_steps, workspace);
 
   // 25 steps, refined by sub-steps only.
   const int steps = 25;

@@ -158,7 +158,7 @@ TEST(MaterialEdit, IntegratorSwitchWhileRunningKeepsStepping) {
   session.world().settings.integrator = IntegratorKind::implicit_euler;
   session.advance_frame();
   EXPECT_GT(session.world().last_step_stats().newton_iterations, 0);
-  session.world().settings.integrator = IntegratorKind::midpoint;
+  session.world().settings.integrator = IntegratorKind::explicit_midpoint;
   session.set_max_time_step(0.001);
   session.advance_frame();
   EXPECT_EQ(session.world().last_step_stats().newton_iterations, 0);

@@ -1,4 +1,4 @@
-#include "physics/midpoint_euler.hpp"
+#include "physics/explicit_midpoint.hpp"
 
 #include "physics/cloth_terms.hpp"
 
@@ -9,7 +9,7 @@ void ExplicitWorkspace::resize(int num_vertices) {
   for (Positions* m : {&x_start, &v_start, &x_mid, &v_mid, &force}) m->setZero(3, num_vertices);
 }
 
-void midpoint_step(Cloth& cloth, const Vec3& gravity, double h, ExplicitWorkspace& workspace) {
+void explicit_midpoint_step(Cloth& cloth, const Vec3& gravity, double h, ExplicitWorkspace& workspace) {
   ClothState& state = cloth.state;
   const auto inverse_mass = cloth.model.inverse_mass.asDiagonal();
   workspace.resize(cloth.num_vertices());
