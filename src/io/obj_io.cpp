@@ -48,11 +48,11 @@ struct ObjCoordinates {
   std::vector<double> uvs;        // u, v per `vt` statement
 };
 
-// The packaged tinyobjloader stores coordinates as float, so `v` and `vt` statements are read
-// again here at full precision (and checked, with line numbers). Lines end at "\n", "\r\n" or
-// "\r" and a statement is recognised exactly as tinyobjloader does, so the counts agree.
-ObjCoordinates read_coordinates(const std::string& text, const std::string& path) {
-  ObjCoordinates coordinates;
+// Calls visit(line_number, first, end) for each line of `text`, numbered from 1, with its
+// leading blanks skipped. Lines end at "\n", "\r\n" or "\r", as tinyobjloader's do, so line
+// numbers and statement counts agree with its parse.
+template <typename Visit>
+void for_each_line(const std::string& text, Visit visit) {
   int line_number = 0;
   std::size_t start = 0;
   while (start < text.size()) {
@@ -62,8 +62,17 @@ ObjCoordinates read_coordinates(const std::string& text, const std::string& path
     const char* const line_end = text.data() + stop;
     start = stop + ((stop + 1 < text.size() && text[stop] == '\r' && text[stop + 1] == '\n') ? 2 : 1);
     ++line_number;
-
     while (token < line_end && (*token == ' ' || *token == '\t')) ++token;
+    visit(line_number, token, line_end);
+  }
+}
+
+// The packaged tinyobjloader stores coordinates as float, so `v` and `vt` statements are read
+// again here at full precision (and checked, with line numbers); a statement is recognised
+// exactly as tinyobjloader does, so the counts agree.
+ObjCoordinates read_coordinates(const std::string& text, const std::string& path) {
+  ObjCoordinates coordinates;
+  for_each_line(text, [&](int line_number, const char* token, const char* line_end) {
     const auto is_blank = [&](const char* c) { return c < line_end && (*c == ' ' || *c == '\t'); };
     const auto fail = [&](const std::string& what) {
       throw IoError(path + ": line " + std::to_string(line_number) + ": " + what);
@@ -80,12 +89,12 @@ ObjCoordinates read_coordinates(const std::string& text, const std::string& path
       }
       coordinates.uvs.insert(coordinates.uvs.end(), values, values + 2);
     } else {
-      continue;
+      return;
     }
     if (!(std::isfinite(values[0]) && std::isfinite(values[1]) && std::isfinite(values[2]))) {
       fail("non-finite coordinate");
     }
-  }
+  });
   return coordinates;
 }
 
@@ -94,17 +103,8 @@ ObjCoordinates read_coordinates(const std::string& text, const std::string& path
 // so messages then name the triangle alone.
 std::vector<int> triangle_lines(const std::string& text, Eigen::Index num_triangles) {
   std::vector<int> lines;
-  int line_number = 0;
-  std::size_t start = 0;
-  while (start < text.size()) {
-    std::size_t stop = text.find_first_of("\r\n", start);
-    if (stop == std::string::npos) stop = text.size();
-    const char* token = text.data() + start;
-    const char* const line_end = text.data() + stop;
-    start = stop + ((stop + 1 < text.size() && text[stop] == '\r' && text[stop + 1] == '\n') ? 2 : 1);
-    ++line_number;
-    while (token < line_end && (*token == ' ' || *token == '\t')) ++token;
-    if (line_end - token < 2 || token[0] != 'f' || (token[1] != ' ' && token[1] != '\t')) continue;
+  for_each_line(text, [&](int line_number, const char* token, const char* line_end) {
+    if (line_end - token < 2 || token[0] != 'f' || (token[1] != ' ' && token[1] != '\t')) return;
     int corners = 0;
     for (const char* c = token + 1; c < line_end;) {
       while (c < line_end && (*c == ' ' || *c == '\t')) ++c;
@@ -113,7 +113,7 @@ std::vector<int> triangle_lines(const std::string& text, Eigen::Index num_triang
       while (c < line_end && *c != ' ' && *c != '\t') ++c;
     }
     for (int k = 0; k + 2 < corners; ++k) lines.push_back(line_number);
-  }
+  });
   if (static_cast<Eigen::Index>(lines.size()) != num_triangles) lines.clear();
   return lines;
 }
