@@ -84,6 +84,8 @@ class ImGuiLayer {
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;
     ImGui::StyleColorsDark();
+    // Opaque panels: the dark style's translucent ones showed another panel's text through them.
+    ImGui::GetStyle().Colors[ImGuiCol_WindowBg].w = 1.0f;
     ImGui_ImplGlfw_InitForOpenGL(window, true);
     ImGui_ImplOpenGL3_Init("#version 330 core");
   }
@@ -295,8 +297,10 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
   Renderer renderer(WEFT_SHADER_DIR);
   ViewerState state;
   state.view = view_options_from(options);
-  state.panels_in_pictures =
-      std::find(options.show.begin(), options.show.end(), "panels") != options.show.end();
+  // Asking for a panel to be open means wanting to see it: --open-panel implies the panels in
+  // saved pictures.
+  state.panels_in_pictures = std::find(options.show.begin(), options.show.end(), "panels") != options.show.end() ||
+                             !options.open_panels.empty();
   state.scene_files = list_scene_files(std::filesystem::path(session.scene_path()).parent_path().string());
   if (state.scene_files.empty()) state.scene_files.push_back(session.scene_path());
   WorldMeshes meshes = show_world(renderer, session.world(), state.view);

@@ -69,9 +69,10 @@ void draw_solver_panel(SimulationSession& session) {
     ImGui::TreePop();
   }
   const StepStats& stats = session.world().last_step_stats();
-  ImGui::Text("last step: %d Newton, %d CG iterations, residual %.2e", stats.newton_iterations,
-              stats.linear_iterations, stats.residual);
-  ImGui::Text("adaptive: %d accepted, %d rejected", stats.accepted_steps, stats.rejected_steps);
+  ImGui::Text("last step: %d Newton, %d CG iterations, residual %.2e m/s%s", stats.newton_iterations,
+              stats.linear_iterations, stats.residual, stats.unconverged_steps > 0 ? " (unconverged)" : "");
+  ImGui::Text("adaptive: %d accepted, %d rejected%s", stats.accepted_steps, stats.rejected_steps,
+              stats.unmet_tolerance_steps > 0 ? ", tolerance not met at h min" : "");
   ImGui::PopItemWidth();
   ImGui::End();
 }
