@@ -152,20 +152,29 @@ void append_pair_candidates(int s, int t, const CandidateMesh& first, const Cand
 
   const std::array<int, 3> corners_s{vs + triangles_s(0, s), vs + triangles_s(1, s), vs + triangles_s(2, s)};
   const std::array<int, 3> corners_t{vt + triangles_t(0, t), vt + triangles_t(1, t), vt + triangles_t(2, t)};
-  const Box box_s = box_of<3>(boxes, corners_s);
-  const Box box_t = box_of<3>(boxes, corners_t);
+  // The triangles' boxes, computed when a designated vertex needs them (most pairs of a
+  // complete list designate none).
+  Box box_s, box_t;
+  bool have_box_s = false, have_box_t = false;
+  const auto triangle_box = [&](bool of_s) -> const Box& {
+    bool& have = of_s ? have_box_s : have_box_t;
+    Box& box = of_s ? box_s : box_t;
+    if (!have) box = box_of<3>(boxes, of_s ? corners_s : corners_t);
+    have = true;
+    return box;
+  };
 
   // Vertex-face: each corner of one triangle against the other triangle.
   for (int k = 0; k < 3; ++k) {
     const int v = triangles_s(k, s);
     if ((!self || !has_corner(triangles_t, t, v)) && (!designated || designates_vertex(first, v, s)) &&
-        within_gap(box_of<1>(boxes, {vs + v}), box_t, gap) &&
+        within_gap(box_of<1>(boxes, {vs + v}), triangle_box(false), gap) &&
         !(boxes && vertex_face_separated(*boxes, vs + v, corners_t))) {
       vertex_faces.push_back({vs + v, second.offsets.triangle + t});
     }
     const int w = triangles_t(k, t);
     if ((!self || !has_corner(triangles_s, s, w)) && (!designated || designates_vertex(second, w, t)) &&
-        within_gap(box_of<1>(boxes, {vt + w}), box_s, gap) &&
+        within_gap(box_of<1>(boxes, {vt + w}), triangle_box(true), gap) &&
         !(boxes && vertex_face_separated(*boxes, vt + w, corners_s))) {
       vertex_faces.push_back({vt + w, first.offsets.triangle + s});
     }
