@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/sweep_status.hpp"
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/output_lock.hpp"
@@ -46,42 +47,6 @@ std::string shell_quote(const std::string& text) {
   std::string quoted = "'";
   for (const char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return quoted + "'";
-}
-
-// What a case folder's run.json says about the run recorded there, against the case as the
-// sweep defines it now.
-struct RecordedCase {
-  std::string status;  // "complete", "interrupted", ...; empty if there is no run.json
-  int frames_written = 0;
-  std::string change;  // empty when recorded with this case's scene (frames aside) and format
-  bool frames_changed = false;
-};
-
-RecordedCase recorded_case(const fs::path& case_dir, const nlohmann::json& scene, const std::string& format) {
-  std::ifstream in(case_dir / "run.json");
-  const nlohmann::json run = nlohmann::json::parse(in, nullptr, false);
-  RecordedCase recorded;
-  if (!run.is_object()) return recorded;
-  if (run.contains("status") && run["status"].is_string()) recorded.status = run["status"].get<std::string>();
-  if (run.contains("frames_written") && run["frames_written"].is_number_integer()) {
-    recorded.frames_written = run["frames_written"].get<int>();
-  }
-  // The resolved scene covers the overrides, the sweep's frames and edits to the scene file. A
-  // case asking for other frames only may go on from its checkpoint; any other change may not.
-  nlohmann::json recorded_scene = run.value("scene", nlohmann::json::object());
-  nlohmann::json wanted_scene = scene;
-  recorded.frames_changed = recorded_scene.value("frames", -1) != wanted_scene.value("frames", -1);
-  if (recorded_scene.is_object()) recorded_scene.erase("frames");
-  wanted_scene.erase("frames");
-  if (recorded_scene != wanted_scene) {
-    const nlohmann::json patch = nlohmann::json::diff(recorded_scene, wanted_scene);
-    recorded.change =
-        "the scene differs at " + (patch.empty() ? std::string("/") : patch[0].value("path", "/"));
-  } else if (run.value("format", "") != format) {
-    recorded.change =
-        "it was recorded as " + run.value("format", std::string("?")) + ", the sweep asks for " + format;
-  }
-  return recorded;
 }
 
 // The options every case's weft command shares (after the scene and --out/--resume).
@@ -234,8 +199,8 @@ int run_locally(const SweepDesc& sweep, const std::vector<SweepCase>& cases,
     while (!sweep_stop_requested && next < total && static_cast<int>(running.size()) < jobs) {
       const SweepCase& sweep_case = cases[next];
       const fs::path case_dir = out / sweep_case.name;
-      const RecordedCase recorded = recorded_case(case_dir, case_scenes[next], sweep.format);
-      if (recorded.status == "complete" && recorded.change.empty() && !recorded.frames_changed) {
+      const CaseStatus status = case_status(case_dir, case_scenes[next], sweep.format);
+      if (status.state == CaseState::complete) {
         ++finished;
         std::fprintf(stderr, "weft sweep: [%zu/%zu] %s already complete\n", finished, total,
                      sweep_case.name.c_str());
@@ -243,13 +208,20 @@ int run_locally(const SweepDesc& sweep, const std::vector<SweepCase>& cases,
         continue;
       }
       // A case whose definition changed since it ran starts again (its checkpoint is of the old
-      // one), as does one that already went past fewer frames now asked for.
+      // one), as does one that already went past fewer frames now asked for, and one said
+      // complete whose files are not.
+      const RecordedCase recorded = recorded_case(case_dir, case_scenes[next], sweep.format);
       const int frames = case_scenes[next].value("frames", 0);
       const bool past_the_end = recorded.frames_changed && recorded.frames_written - 1 > frames;
       const bool checkpoint = fs::exists(case_dir / "checkpoint.bin");
+      const bool unchanged = recorded.change.empty() && !recorded.frames_changed;
+      const bool damaged = recorded.status == "complete" && unchanged;
       const bool again = !recorded.status.empty() && (!recorded.change.empty() || past_the_end ||
-                                                      (recorded.frames_changed && !checkpoint));
-      if (again) {
+                                                      (recorded.frames_changed && !checkpoint) || damaged);
+      if (damaged) {
+        std::fprintf(stderr, "weft sweep: %s %s; running it again\n", sweep_case.name.c_str(),
+                     status.detail.substr(0, status.detail.find("; the next sweep")).c_str());
+      } else if (again) {
         std::fprintf(stderr, "weft sweep: %s changed since it ran (%s); running it again\n",
                      sweep_case.name.c_str(),
                      recorded.change.empty() ? "the scene differs at /frames" : recorded.change.c_str());
@@ -339,6 +311,8 @@ int run_sweep(const SweepOptions& options) {
     for (const SweepCase& sweep_case : cases) std::printf("%s\n", sweep_case.name.c_str());
     return 0;
   }
+  // Read only, without the sweep's lock: it answers while the sweep (or a SLURM array) runs.
+  if (options.status) return print_sweep_status(sweep, cases, case_scenes, out);
 
   // One sweep per folder at a time (each case's run also locks its own folder); held until return.
   OutputLock lock;
