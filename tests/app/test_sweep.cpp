@@ -147,6 +147,7 @@ TEST(Sweep, SlurmScriptPassesBashCheckAndRunsArrayCasesLocally) {
   EXPECT_NE(text.find("#SBATCH --array=0-3%2\n"), std::string::npos) << text;
   EXPECT_NE(text.find("#SBATCH --time=00:10:00\n"), std::string::npos) << text;
   EXPECT_NE(text.find("#SBATCH --account=cloth\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("'--checkpoint-every' '10'"), std::string::npos) << text;  // the default
   EXPECT_TRUE(fs::is_directory(out / "logs"));
   // Nothing ran.
   EXPECT_FALSE(fs::exists(out / case_names[0]));
@@ -238,6 +239,11 @@ TEST(Sweep, StopIsPassedToRunningCasesWhichResumeOnTheNextSweep) {
   }
   EXPECT_EQ(count(again.error_text, "complete in"), 2) << again.error_text;
   EXPECT_EQ(count(again.error_text, "(resumed from its checkpoint)"), 2) << again.error_text;
+  // Each case's own log says where it went on from.
+  for (const std::string& name : names) {
+    EXPECT_NE(read_bytes(out / name / "log.txt").find("weft: resumed from frame "), std::string::npos)
+        << name;
+  }
 }
 
 // `--status` reads each case from its files: a lock held by a live process is a running case, a
