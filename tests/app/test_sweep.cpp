@@ -148,6 +148,8 @@ TEST(Sweep, SlurmScriptPassesBashCheckAndRunsArrayCasesLocally) {
   EXPECT_NE(text.find("#SBATCH --time=00:10:00\n"), std::string::npos) << text;
   EXPECT_NE(text.find("#SBATCH --account=cloth\n"), std::string::npos) << text;
   EXPECT_NE(text.find("'--checkpoint-every' '10'"), std::string::npos) << text;  // the default
+  EXPECT_NE(text.find("#SBATCH --requeue\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("#SBATCH --signal=B:TERM@120\n"), std::string::npos) << text;
   EXPECT_TRUE(fs::is_directory(out / "logs"));
   // Nothing ran.
   EXPECT_FALSE(fs::exists(out / case_names[0]));
@@ -179,6 +181,70 @@ TEST(Sweep, SlurmScriptPassesBashCheckAndRunsArrayCasesLocally) {
                        dir.file("y.txt"));
   EXPECT_NE(result.exit_code, 0);
   EXPECT_NE(result.error_text.find("SLURM_ARRAY_TASK_ID"), std::string::npos) << result.error_text;
+}
+
+// SLURM's warning before a time limit (--signal=B:TERM@120) goes to the array task's shell alone:
+// the shell passes it on, weft stops after a whole frame with a checkpoint, and the task requeues
+// itself (`scontrol requeue JOB_TASK`, here a stand-in that records its arguments). Run again, the
+// task resumes from the checkpoint and says so.
+TEST(Sweep, ArrayTaskStoppedBeforeItsTimeLimitRequeuesItselfAndResumes) {
+  TempDir dir("weft_sweep_requeue");
+  const std::string path = dir.file("long.json");
+  const auto write_long = [&](int frames) {
+    std::ofstream(path) << R"({"scene": ")" << source_dir << R"(/scenes/drape_sphere.json", "frames": )"
+                        << frames << R"(, "set": ["cloths.0.grid.resolution=[6,6]"],
+      "grid": {"cloths.0.mass_damping": [0.1]}})";
+  };
+  write_long(100000);
+  const fs::path out = dir.path() / "out";
+  ASSERT_EQ(run_program({weft_program, "sweep", path, "--out", out.string(), "--slurm"}, dir.file("w.txt"))
+                .exit_code,
+            0);
+  const fs::path bin = dir.path() / "bin";
+  fs::create_directories(bin);
+  std::ofstream(bin / "scontrol") << "#!/bin/sh\necho \"$@\" >> " << dir.file("scontrol.txt") << "\n";
+  fs::permissions(bin / "scontrol", fs::perms::owner_all);
+  const std::vector<std::string> task = {"/usr/bin/env",
+                                         "PATH=" + bin.string() + ":/usr/bin:/bin",
+                                         "SLURM_ARRAY_TASK_ID=0",
+                                         "SLURM_ARRAY_JOB_ID=77",
+                                         "/bin/bash",
+                                         (out / "long.sbatch").string()};
+  const fs::path case_dir = out / "000_mass_damping-0.1";
+  const std::string log = dir.file("task.txt");
+  const pid_t pid = start_program(task, log);
+  ASSERT_GT(pid, 0);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (count_lines(case_dir / "stats.csv") < 25 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  kill(pid, SIGTERM);  // to the shell only, as --signal=B: does
+  const auto stopped = wait_program(pid, log);
+  EXPECT_EQ(stopped.exit_code, 130) << stopped.error_text;
+  const auto run = read_json(case_dir / "run.json");
+  EXPECT_EQ(run["status"], "interrupted");
+  const int frames_written = run["frames_written"];
+  EXPECT_GE(frames_written, 24);
+  EXPECT_TRUE(fs::exists(case_dir / "checkpoint.bin"));
+  EXPECT_NE(stopped.error_text.find("stopped after frame " + std::to_string(frames_written - 1) +
+                                    " with a checkpoint; requeueing 77_0"),
+            std::string::npos)
+      << stopped.error_text;
+  EXPECT_EQ(read_bytes(dir.file("scontrol.txt")), "requeue 77_0\n");
+
+  // The requeued task (a few frames further now, so that it ends) goes on from the checkpoint.
+  write_long(frames_written + 2);
+  ASSERT_EQ(run_program({weft_program, "sweep", path, "--out", out.string(), "--slurm"}, dir.file("w2.txt"))
+                .exit_code,
+            0);
+  const auto resumed = run_program(task, dir.file("task2.txt"));
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.error_text;
+  EXPECT_NE(resumed.error_text.find("weft: resumed from frame " + std::to_string(frames_written - 1) +
+                                    " of " + std::to_string(frames_written + 2)),
+            std::string::npos)
+      << resumed.error_text;
+  EXPECT_EQ(read_json(case_dir / "run.json")["status"], "complete");
+  EXPECT_EQ(read_bytes(dir.file("scontrol.txt")), "requeue 77_0\n");  // not again
 }
 
 // SIGTERM to the sweep alone (a batch system stopping the job's main process) reaches the
