@@ -185,11 +185,17 @@ else
   job=$(timeout 10 sbatch --parsable "$script") || fail "sbatch $script"
   past_frame() { (($(stats_rows "$case_dir") > $1)); }
   wait_until 60 past_frame 200 || fail "the case wrote no 200 frames in 60 s"
+  status=$("$weft" sweep "$tmp/long.json" --out "$tmp/long" --status)
+  grep -q "000_mass_damping-0.1  running on $host, pid [0-9]*: frame [0-9]* of $frames" <<<"$status" ||
+    fail "status while the task runs: $status"
   # What --signal=B:TERM@... does before the time limit.
   timeout 10 scancel --batch --signal=TERM "${job}_0" || fail "scancel --signal=TERM"
   requeued() { [[ $(job_field "${job}_0" Restarts) -ge 1 && $(job_field "${job}_0" JobState) == PENDING ]]; }
   wait_until 60 requeued || fail "job ${job}_0 was not requeued: $(job_field "${job}_0" JobState)"
   stopped_at=$(stats_rows "$case_dir")
+  status=$("$weft" sweep "$tmp/long.json" --out "$tmp/long" --status)
+  grep -q "interrupted after frame $((stopped_at - 1)) of $frames; resumable from its checkpoint at frame $((stopped_at - 1))" <<<"$status" ||
+    fail "status while the task waits in the queue: $status"
   say "stopped after frame $((stopped_at - 1)) of $frames; requeued, eligible at $(job_field "${job}_0" EligibleTime)"
   wait_until 180 queue_empty "$job" || fail "job $job still queued 180 s after its requeue"
 fi
