@@ -331,6 +331,9 @@ int Run::record_and_step() {
     }
     write_run_json("running");
     recording.resume(world_, first_frame_ - 1);
+    // Said even with --quiet: a sweep's or a cluster job's log shows where the run went on from.
+    std::fprintf(stderr, "weft: resumed from frame %d of %d (%s)\n", first_frame_ - 1, scene_.frames,
+                 (out_ / checkpoint_file).c_str());
   }
 
   const auto record = [&](int frame, const StepStats& steps, Clock::time_point frame_start) {

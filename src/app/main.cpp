@@ -130,7 +130,13 @@ int run(int argc, char** argv) {
   sweep->add_option("--jobs,-j", sweep_options.jobs, "Local runs at once (default: cores / threads)")
       ->check(whole_number("runs at once", 1, weft::max_sweep_jobs,
                            "from 1 to " + std::to_string(weft::max_sweep_jobs)));
-  sweep->add_flag("--dry-run", sweep_options.dry_run, "List the case names and exit");
+  CLI::Option* dry_run = sweep->add_flag("--dry-run", sweep_options.dry_run, "List the case names and exit");
+  sweep
+      ->add_flag("--status", sweep_options.status,
+                 "Say per case: complete, running, interrupted, failed, changed or not started; exit 0 "
+                 "when all are complete, 1 when some are not yet, 5 when some failed")
+      ->excludes(dry_run)
+      ->excludes("--slurm");
 
   weft::PlotOptions plot_options;
   CLI::App* plot = app.add_subcommand("plot", "Plot a run's (or a sweep's) stats.csv to PNG with gnuplot");

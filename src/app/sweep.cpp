@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/sweep_status.hpp"
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/output_lock.hpp"
@@ -46,42 +47,6 @@ std::string shell_quote(const std::string& text) {
   std::string quoted = "'";
   for (const char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return quoted + "'";
-}
-
-// What a case folder's run.json says about the run recorded there, against the case as the
-// sweep defines it now.
-struct RecordedCase {
-  std::string status;  // "complete", "interrupted", ...; empty if there is no run.json
-  int frames_written = 0;
-  std::string change;  // empty when recorded with this case's scene (frames aside) and format
-  bool frames_changed = false;
-};
-
-RecordedCase recorded_case(const fs::path& case_dir, const nlohmann::json& scene, const std::string& format) {
-  std::ifstream in(case_dir / "run.json");
-  const nlohmann::json run = nlohmann::json::parse(in, nullptr, false);
-  RecordedCase recorded;
-  if (!run.is_object()) return recorded;
-  if (run.contains("status") && run["status"].is_string()) recorded.status = run["status"].get<std::string>();
-  if (run.contains("frames_written") && run["frames_written"].is_number_integer()) {
-    recorded.frames_written = run["frames_written"].get<int>();
-  }
-  // The resolved scene covers the overrides, the sweep's frames and edits to the scene file. A
-  // case asking for other frames only may go on from its checkpoint; any other change may not.
-  nlohmann::json recorded_scene = run.value("scene", nlohmann::json::object());
-  nlohmann::json wanted_scene = scene;
-  recorded.frames_changed = recorded_scene.value("frames", -1) != wanted_scene.value("frames", -1);
-  if (recorded_scene.is_object()) recorded_scene.erase("frames");
-  wanted_scene.erase("frames");
-  if (recorded_scene != wanted_scene) {
-    const nlohmann::json patch = nlohmann::json::diff(recorded_scene, wanted_scene);
-    recorded.change =
-        "the scene differs at " + (patch.empty() ? std::string("/") : patch[0].value("path", "/"));
-  } else if (run.value("format", "") != format) {
-    recorded.change =
-        "it was recorded as " + run.value("format", std::string("?")) + ", the sweep asks for " + format;
-  }
-  return recorded;
 }
 
 // The options every case's weft command shares (after the scene and --out/--resume).
@@ -151,15 +116,50 @@ std::string slurm_script(const SweepDesc& sweep, const std::vector<SweepCase>& c
   const std::vector<std::string> common = common_arguments(sweep);
   for (size_t a = 0; a < common.size(); ++a) s << (a ? " " : "") << shell_quote(common[a]);
   s << ")\n"
-    << "echo \"weft sweep: case $task: $name on $(hostname)\" >&2\n"
+    << "restart=${SLURM_RESTART_COUNT:+, restart $SLURM_RESTART_COUNT}\n"
+    << "echo \"weft sweep: case $task: $name on $(hostname)$restart\" >&2\n"
     << "if [[ -f \"$out/run.json\" ]] && grep -q '\"status\": \"complete\"' \"$out/run.json\"; then\n"
     << "  echo \"weft sweep: case $name is already complete\" >&2\n"
     << "  exit 0\n"
     << "fi\n"
+    << "frames_written() {\n"
+    << "  sed -n 's/^  \"frames_written\": \\([0-9]*\\),$/\\1/p' \"$out/run.json\" 2>/dev/null || true\n"
+    << "}\n"
+    << "frames_before=$(frames_written)\n\n"
+    << "# weft runs as a child of this shell, which SLURM's warning before the time limit\n"
+    << "# (--signal=B:TERM@...) reaches: passed on, weft ends its frame, checkpoints and exits 130.\n"
+    << "stopping=0\n"
+    << "stop() { stopping=1; kill -TERM \"${weft_pid:-}\" 2>/dev/null || true; }\n"
+    << "trap stop TERM INT\n"
     << "if [[ -f \"$out/checkpoint.bin\" ]]; then\n"
-    << "  exec \"$weft\" --headless \"$scene\" --resume \"$out\" \"${common[@]}\" \"${overrides[@]}\"\n"
+    << "  \"$weft\" --headless \"$scene\" --resume \"$out\" \"${common[@]}\" \"${overrides[@]}\" &\n"
+    << "else\n"
+    << "  \"$weft\" --headless \"$scene\" --out \"$out\" \"${common[@]}\" \"${overrides[@]}\" &\n"
     << "fi\n"
-    << "exec \"$weft\" --headless \"$scene\" --out \"$out\" \"${common[@]}\" \"${overrides[@]}\"\n";
+    << "weft_pid=$!\n"
+    << "while :; do\n"
+    << "  stopping=0\n"
+    << "  wait \"$weft_pid\" && code=0 || code=$?\n"
+    << "  # A trapped signal ends `wait` early; wait again for weft's own exit.\n"
+    << "  if (( stopping && code > 128 )) && kill -0 \"$weft_pid\" 2>/dev/null; then continue; fi\n"
+    << "  break\n"
+    << "done\n\n"
+    << "# Interrupted with a checkpoint and further than it started: back in the queue to go on from it.\n"
+    << "if (( code == 130 )) && [[ -n \"${SLURM_ARRAY_JOB_ID:-}\" && -f \"$out/checkpoint.bin\" ]]; then\n"
+    << "  frames_after=$(frames_written)\n"
+    << "  if (( ${frames_after:-0} > ${frames_before:-0} )); then\n"
+    << "    echo \"weft sweep: case $name stopped after frame $(( frames_after - 1 )) with a checkpoint;\" "
+       "\\\n"
+    << "      \"requeueing ${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\" >&2\n"
+    << "    scontrol requeue \"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\" ||\n"
+    << "      echo \"weft sweep: the requeue failed; submit the case again: sbatch --array=$task \""
+    << shell_quote((out / (sweep.name + ".sbatch")).string()) << " >&2\n"
+    << "  else\n"
+    << "    echo \"weft sweep: case $name made no progress in this job; not requeued\" \\\n"
+    << "      \"(raise slurm.time)\" >&2\n"
+    << "  fi\n"
+    << "fi\n"
+    << "exit \"$code\"\n";
   return s.str();
 }
 
@@ -234,8 +234,8 @@ int run_locally(const SweepDesc& sweep, const std::vector<SweepCase>& cases,
     while (!sweep_stop_requested && next < total && static_cast<int>(running.size()) < jobs) {
       const SweepCase& sweep_case = cases[next];
       const fs::path case_dir = out / sweep_case.name;
-      const RecordedCase recorded = recorded_case(case_dir, case_scenes[next], sweep.format);
-      if (recorded.status == "complete" && recorded.change.empty() && !recorded.frames_changed) {
+      const CaseStatus status = case_status(case_dir, case_scenes[next], sweep.format);
+      if (status.state == CaseState::complete) {
         ++finished;
         std::fprintf(stderr, "weft sweep: [%zu/%zu] %s already complete\n", finished, total,
                      sweep_case.name.c_str());
@@ -243,13 +243,20 @@ int run_locally(const SweepDesc& sweep, const std::vector<SweepCase>& cases,
         continue;
       }
       // A case whose definition changed since it ran starts again (its checkpoint is of the old
-      // one), as does one that already went past fewer frames now asked for.
+      // one), as does one that already went past fewer frames now asked for, and one said
+      // complete whose files are not.
+      const RecordedCase recorded = recorded_case(case_dir, case_scenes[next], sweep.format);
       const int frames = case_scenes[next].value("frames", 0);
       const bool past_the_end = recorded.frames_changed && recorded.frames_written - 1 > frames;
       const bool checkpoint = fs::exists(case_dir / "checkpoint.bin");
+      const bool unchanged = recorded.change.empty() && !recorded.frames_changed;
+      const bool damaged = recorded.status == "complete" && unchanged;
       const bool again = !recorded.status.empty() && (!recorded.change.empty() || past_the_end ||
-                                                      (recorded.frames_changed && !checkpoint));
-      if (again) {
+                                                      (recorded.frames_changed && !checkpoint) || damaged);
+      if (damaged) {
+        std::fprintf(stderr, "weft sweep: %s %s; running it again\n", sweep_case.name.c_str(),
+                     status.detail.substr(0, status.detail.find("; the next sweep")).c_str());
+      } else if (again) {
         std::fprintf(stderr, "weft sweep: %s changed since it ran (%s); running it again\n",
                      sweep_case.name.c_str(),
                      recorded.change.empty() ? "the scene differs at /frames" : recorded.change.c_str());
@@ -339,6 +346,8 @@ int run_sweep(const SweepOptions& options) {
     for (const SweepCase& sweep_case : cases) std::printf("%s\n", sweep_case.name.c_str());
     return 0;
   }
+  // Read only, without the sweep's lock: it answers while the sweep (or a SLURM array) runs.
+  if (options.status) return print_sweep_status(sweep, cases, case_scenes, out);
 
   // One sweep per folder at a time (each case's run also locks its own folder); held until return.
   OutputLock lock;

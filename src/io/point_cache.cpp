@@ -198,4 +198,17 @@ PointCache read_point_cache(const std::string& path) {
   return cache;
 }
 
+int point_cache_samples(const std::string& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) throw IoError(path + ": cannot open point cache: " + errno_text(errno));
+  const long long size = in.tellg();
+  in.seekg(0);
+  const Header header = read_header(in, path);
+  if (size < point_cache_size(header.num_points, header.num_samples)) {
+    throw IoError(path + ": PC2 sample count: the header says " + std::to_string(header.num_samples) +
+                  " samples, the file is shorter");
+  }
+  return header.num_samples;
+}
+
 }  // namespace weft

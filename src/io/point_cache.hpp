@@ -55,6 +55,10 @@ struct PointCache {
 // field that is wrong (magic, version, counts, a file shorter than its header says).
 PointCache read_point_cache(const std::string& path);
 
+// The samples a cache's header counts, without reading them; throws IoError like
+// read_point_cache, also when the file is shorter than those samples.
+int point_cache_samples(const std::string& path);
+
 // Bytes of a cache with `samples` samples of `num_points` points.
 long long point_cache_size(int num_points, int samples);
 

@@ -164,7 +164,8 @@ SweepDesc load_sweep_file(const std::string& path) {
   sweep.frames = read_int(document, "frames", "", path, -1, 0);
   sweep.threads = read_int(document, "threads", "", path, 1, 1, max_threads);
   sweep.jobs = read_int(document, "jobs", "", path, 0, 0, max_sweep_jobs);
-  sweep.checkpoint_every = read_int(document, "checkpoint_every", "", path, 0, 0);
+  sweep.checkpoint_every =
+      read_int(document, "checkpoint_every", "", path, default_sweep_checkpoint_every, 0);
   sweep.format = read_string(document, "format", "", path, "pc2");
   RecordingFormat format;
   if (!recording_format_from_string(sweep.format, format)) {

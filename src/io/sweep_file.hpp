@@ -13,6 +13,11 @@ namespace weft {
 // many a machine spends its time switching between them.
 constexpr int max_sweep_jobs = 1024;
 
+// Sweeps checkpoint every this many frames unless the sweep file says otherwise ("checkpoint_every",
+// 0 for none), so a case stopped by a time limit, a preemption or a lost node resumes. A stop
+// (SIGTERM) also writes one at the frame it ends on whenever this is not 0.
+constexpr int default_sweep_checkpoint_every = 10;
+
 struct SlurmSettings {
   std::string partition;            // #SBATCH --partition (empty: the cluster's default)
   std::string time = "01:00:00";    // #SBATCH --time, per case
@@ -29,7 +34,7 @@ struct SweepDesc {
   int frames = -1;             // -1: the scene's
   int threads = 1;             // solver threads per case
   int jobs = 0;                // local runs at once (0: cores / threads)
-  int checkpoint_every = 0;    // frames; 0: no checkpoints
+  int checkpoint_every = default_sweep_checkpoint_every;  // frames; 0: no checkpoints
   std::string format = "pc2";  // recording format of each case
   std::vector<std::string> overrides;  // "set": applied to every case, before the grid's
   std::vector<std::pair<std::string, std::vector<nlohmann::json>>> grid;  // path -> values, in file order

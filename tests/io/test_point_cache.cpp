@@ -75,6 +75,19 @@ TEST(PointCache, BytesPastTheCountedSamplesAreIgnored) {
   EXPECT_EQ(cache.samples[1], sample(4, 1).cast<float>());
 }
 
+TEST(PointCache, SampleCountIsReadFromTheHeaderAndCheckedAgainstTheSize) {
+  TempDir dir("weft_pc2_count");
+  const std::string path = dir.file("cloth.pc2");
+  {
+    PointCacheWriter writer = PointCacheWriter::create(path, 4);
+    for (int s = 0; s < 3; ++s) writer.append(sample(4, s));
+  }
+  EXPECT_EQ(point_cache_samples(path), 3);
+  std::filesystem::resize_file(path, point_cache_size(4, 3) - 1);
+  EXPECT_THROW(point_cache_samples(path), IoError);
+  EXPECT_THROW(point_cache_samples(dir.file("none.pc2")), IoError);
+}
+
 TEST(PointCache, ReopenKeepsTheFirstSamplesAndContinues) {
   TempDir dir("weft_pc2_resume");
   const std::string path = dir.file("cloth.pc2");

@@ -41,6 +41,7 @@ TEST(SweepFile, GridExpandsToEveryCombinationLastKeyFastest) {
   EXPECT_EQ(sweep.scene, (dir.path() / "scenes/drape.json").string());
   EXPECT_EQ(sweep.out, "out/drape");
   EXPECT_EQ(sweep.frames, 12);
+  EXPECT_EQ(sweep.checkpoint_every, 10);  // sweeps checkpoint unless told not to
   const std::vector<SweepCase> cases = expand_sweep(sweep);
   ASSERT_EQ(cases.size(), 6u);
   EXPECT_EQ(cases[0].name, "000_stiffness-200_integrator-symplectic_euler");
