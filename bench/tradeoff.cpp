@@ -53,10 +53,12 @@ Positions all_positions(const World& world) {
   return x;
 }
 
-// Runs `scene` for `duration` with the given integrator and step; strain and stability are
-// sampled every `sample` seconds. A run stops early (unstable) on non-finite state or a strain
-// past 1 (twice the rest length).
-Run simulate(SceneDesc scene, IntegratorKind integrator, double h, double duration, double sample) {
+// Runs `scene` for `duration` with the given integrator and step; strain, energy and stability
+// are sampled every `sample` seconds. A run stops early (unstable) on non-finite state, a strain
+// past 1 (twice the rest length) or a total energy above its start by more than `energy_gain`
+// (J): a run that creates energy has blown up however little it has stretched yet.
+Run simulate(SceneDesc scene, IntegratorKind integrator, double h, double duration, double sample,
+             double energy_gain = INFINITY) {
   scene.integrator = integrator;
   scene.collision.enabled = false;
   scene.xpbd = XpbdSettings{1, 1};
@@ -66,6 +68,7 @@ Run simulate(SceneDesc scene, IntegratorKind integrator, double h, double durati
   const int steps = static_cast<int>(std::lround(duration / h));
   const int sample_every = std::max(1, static_cast<int>(std::lround(sample / h)));
   Run run;
+  const double energy_start = world.energies().total();
   double seconds = 0.0;
   for (int k = 1; k <= steps && run.stable; ++k) {
     const auto start = std::chrono::steady_clock::now();
@@ -77,7 +80,7 @@ Run simulate(SceneDesc scene, IntegratorKind integrator, double h, double durati
       bool finite = std::isfinite(energies.total());
       for (const Cloth& cloth : world.cloths()) finite = finite && cloth.state.x.allFinite() && cloth.state.v.allFinite();
       run.largest_strain = finite ? std::max(run.largest_strain, largest_strain(world)) : INFINITY;
-      run.stable = finite && run.largest_strain <= 1.0;
+      run.stable = finite && run.largest_strain <= 1.0 && energies.total() - energy_start <= energy_gain;
       run.energy_end = energies.total();
     }
   }
@@ -89,7 +92,8 @@ Run simulate(SceneDesc scene, IntegratorKind integrator, double h, double durati
 int usage() {
   std::fprintf(stderr,
                "usage: weft_tradeoff SCENE [--out DIR] [--duration S] [--set PATH=VALUE]...\n"
-               "  sweeps symplectic_euler, midpoint, implicit_euler and xpbd over h = 1/16000 ... 1/24 s\n");
+               "  sweeps symplectic_euler, midpoint_euler_cromer, explicit_midpoint, implicit_euler and xpbd over\n"
+               "  h = 1/16000 ... 1/24 s, then bisects the explicit integrators' largest stable step\n");
   return 2;
 }
 
@@ -137,8 +141,14 @@ int main(int argc, char** argv) {
     for (IntegratorKind integrator : {IntegratorKind::symplectic_euler, IntegratorKind::midpoint_euler_cromer,
                                       IntegratorKind::explicit_midpoint, IntegratorKind::implicit_euler,
                                       IntegratorKind::xpbd}) {
+      // Stable: finite, no side past 2x, and no more energy gained than a tenth of the
+      // reference's peak kinetic energy.
+      const double energy_gain = 0.1 * reference.peak_kinetic;
+      double largest_stable = 0.0, smallest_unstable = INFINITY;
       for (double h : steps) {
-        const Run run = simulate(scene, integrator, h, duration, sample);
+        const Run run = simulate(scene, integrator, h, duration, sample, energy_gain);
+        if (run.stable) largest_stable = std::max(largest_stable, h);
+        if (!run.stable) smallest_unstable = std::min(smallest_unstable, h);
         const double error = run.stable ? (run.x - reference.x).colwise().norm().maxCoeff() : NAN;
         // Energy gained (+) or lost (-) against the reference's, over the reference's peak kinetic energy.
         const double drift = run.stable ? (run.energy_end - reference.energy_end) / reference.peak_kinetic : NAN;
@@ -148,6 +158,22 @@ int main(int argc, char** argv) {
                       run.stable ? "yes" : "no");
         csv << line << "\n";
         std::printf("%s\n", line);
+        std::fflush(stdout);
+      }
+      // The explicit integrators' limit on this scene: bisected between the sweep's largest stable
+      // and smallest unstable step, to 1% (stable means the same as above).
+      const bool explicit_integrator = integrator == IntegratorKind::symplectic_euler ||
+                                       integrator == IntegratorKind::midpoint_euler_cromer ||
+                                       integrator == IntegratorKind::explicit_midpoint;
+      if (explicit_integrator && largest_stable > 0.0 && std::isfinite(smallest_unstable) &&
+          largest_stable < smallest_unstable) {
+        double lo = largest_stable, hi = smallest_unstable;
+        while (hi - lo > 0.01 * lo) {
+          const double mid = std::sqrt(lo * hi);
+          (simulate(scene, integrator, mid, duration, sample, energy_gain).stable ? lo : hi) = mid;
+        }
+        std::printf("limit,%s,largest stable h = 1/%.0f s (unstable at 1/%.0f s)\n", to_string(integrator), 1.0 / lo,
+                    1.0 / hi);
         std::fflush(stdout);
       }
     }
