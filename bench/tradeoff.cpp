@@ -142,8 +142,10 @@ int main(int argc, char** argv) {
                                       IntegratorKind::explicit_midpoint, IntegratorKind::implicit_euler,
                                       IntegratorKind::xpbd}) {
       // Stable: finite, no side past 2x, and no more energy gained than a tenth of the
-      // reference's peak kinetic energy.
-      const double energy_gain = 0.1 * reference.peak_kinetic;
+      // reference's peak kinetic energy. XPBD is exempt from the energy test: its membrane is
+      // edge constraints, not the scene's StVK model the energy is measured in, so it shows
+      // energy "gained" at every h while bounded (its drift column says how much).
+      const double energy_gain = integrator == IntegratorKind::xpbd ? INFINITY : 0.1 * reference.peak_kinetic;
       double largest_stable = 0.0, smallest_unstable = INFINITY;
       for (double h : steps) {
         const Run run = simulate(scene, integrator, h, duration, sample, energy_gain);
