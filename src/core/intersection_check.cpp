@@ -291,10 +291,15 @@ bool mesh_triangles_intersect(const std::vector<CheckedMesh>& meshes, int mesh_a
                               int triangle_b) {
   const CheckedMesh& a = meshes[mesh_a];
   const CheckedMesh& b = meshes[mesh_b];
-  // match_in_b[i]: the corner of b that is corner i of a, or -1.
+  // match_in_b[i]: the corner of b that is corner i of a, or -1. A triangle that repeats a vertex
+  // index (a broken mesh) shares nothing by index: it is tested as the closed set it is.
+  const auto repeats_a_vertex = [](const CheckedMesh& mesh, int t) {
+    const int c0 = corner_index(mesh, t, 0), c1 = corner_index(mesh, t, 1), c2 = corner_index(mesh, t, 2);
+    return c0 == c1 || c1 == c2 || c2 == c0;
+  };
   std::array<int, 3> match_in_b = {-1, -1, -1};
   int num_shared = 0;
-  if (mesh_a == mesh_b) {
+  if (mesh_a == mesh_b && !repeats_a_vertex(a, triangle_a) && !repeats_a_vertex(b, triangle_b)) {
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) {
         if (corner_index(a, triangle_a, i) == corner_index(b, triangle_b, j)) {

@@ -338,6 +338,20 @@ TEST(IntersectionCheck, NeighboursAtASharedVertexIntersectWhenTheyMeetAwayFromIt
   EXPECT_TRUE(check_one_mesh(positions, triangles).empty());
 }
 
+TEST(IntersectionCheck, ATriangleRepeatingAVertexIsTestedAsTheClosedSetItIs) {
+  // Triangle (0, 0, 1) is the segment [x0, x1]; it touches (0, 2, 3) at x0, which counts for a
+  // broken mesh (no sharing by index is assumed), and misses (4, 5, 6).
+  Positions positions(3, 7);
+  positions << 0, 1, 0, 1, 5, 6, 5,  //
+      0, 0, 1, 1, 5, 5, 6,           //
+      0, 0, 0, 0, 0, 0, 0;
+  Triangles triangles(3, 3);
+  triangles << 0, 0, 4, 0, 2, 5, 1, 3, 6;
+  const std::vector<TriangleIntersection> found = check_one_mesh(positions, triangles);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0], (TriangleIntersection{0, 0, 0, 1}));
+}
+
 // Whether 2D point x lies inside triangle (p, q, r) with a margin, either orientation.
 bool strictly_inside_2d(const Vec2& x, const Vec2& p, const Vec2& q, const Vec2& r) {
   auto cross = [](const Vec2& a, const Vec2& b, const Vec2& c) {
