@@ -156,7 +156,9 @@ TEST(IntegratorConvergence, MidpointEulerCromerIsSecondOrderOnAMembrane) {
     std::printf("compression factor %.1f: ", compression_factor);
     print_errors("midpoint Euler-Cromer on a membrane", errors, slope);
     EXPECT_GT((reference - cloth.state.x).lpNorm<Eigen::Infinity>(), 0.05) << "the cloth swings";
-    if (compression_factor == 1.0) EXPECT_NEAR(slope, 2.0, 0.15);
+    if (compression_factor == 1.0) {
+      EXPECT_NEAR(slope, 2.0, 0.15);
+    }
   }
 }
 
