@@ -4,7 +4,8 @@
 // Explicit integrators step at a quarter of their stability limit for the grid (it shrinks as
 // 1/n); implicit Euler steps at the scene default 1/600 s with its default CG solve and with the
 // supernodal Cholesky solve (implicit_euler_cholesky), XPBD at 1/600 s with its default 4
-// sub-steps of one sweep (serial: its threads count changes nothing).
+// sub-steps of one sweep (serial: its threads count changes nothing). The *_no_budget variants
+// turn the energy budget off, to show its cost.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -37,10 +38,11 @@ World grid_world(int n, IntegratorKind integrator) {
 }
 
 void step_benchmark(benchmark::State& state, IntegratorKind integrator,
-                    LinearSolverKind linear_solver = LinearSolverKind::conjugate_gradient) {
+                    LinearSolverKind linear_solver = LinearSolverKind::conjugate_gradient, bool energy_budget = true) {
   const int n = static_cast<int>(state.range(0));
   World world = grid_world(n, integrator);
   world.settings.implicit.linear_solver = linear_solver;
+  world.settings.energy_budget = energy_budget;
   world.settings.threads = static_cast<int>(state.range(1));
   // A few steps first, so the cloth is moving and the solvers' storage exists.
   for (int k = 0; k < 3; ++k) world.step();
@@ -76,6 +78,13 @@ BENCHMARK_CAPTURE(step_benchmark, implicit_euler, IntegratorKind::implicit_euler
     ->Apply(grid_sizes_and_threads);
 BENCHMARK_CAPTURE(step_benchmark, implicit_euler_cholesky, IntegratorKind::implicit_euler,
                   LinearSolverKind::cholesky)
+    ->Apply(grid_sizes_and_threads);
+// The energy budget's share of a step (sim/energy_ledger.hpp): the two Eulers without it.
+BENCHMARK_CAPTURE(step_benchmark, symplectic_euler_no_budget, IntegratorKind::symplectic_euler,
+                  LinearSolverKind::conjugate_gradient, false)
+    ->Apply(grid_sizes_and_threads);
+BENCHMARK_CAPTURE(step_benchmark, implicit_euler_no_budget, IntegratorKind::implicit_euler,
+                  LinearSolverKind::conjugate_gradient, false)
     ->Apply(grid_sizes_and_threads);
 BENCHMARK_CAPTURE(step_benchmark, xpbd, IntegratorKind::xpbd)->Apply(grid_sizes_and_threads);
 

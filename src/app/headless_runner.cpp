@@ -36,7 +36,8 @@ constexpr const char* stats_header =
     "linear_iterations,accepted_steps,rejected_steps,yielded_triangles,move_colliders_ms,integrate_ms,"
     "collisions_ms,rest_update_ms,record_ms,wall_ms,steps,broad_phase_ms,narrow_phase_ms,response_ms,step_ms,"
     "vertex_face_candidates,edge_edge_candidates,proximity_contacts,ccd_impulses,impact_zone_vertices,"
-    "collisions_clean,strain_limited_edges,newton_residual,unconverged_steps";
+    "collisions_clean,strain_limited_edges,newton_residual,unconverged_steps,external_work,dissipated_damping,"
+    "dissipated_integrator,dissipated_contact,dissipated_plastic,budget_error";
 
 volatile std::sig_atomic_t stop_requested = 0;
 extern "C" void request_stop(int) { stop_requested = 1; }
@@ -55,8 +56,12 @@ double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-std::string stats_line(int frame, double time, const Energies& e, double dissipated, const StepStats& s,
-                       double record_ms, double wall_ms) {
+// `flows` are summed from frame 0; budget_error = energy now + dissipated - energy at frame 0 -
+// external work (sim/energy_ledger.hpp).
+std::string stats_line(int frame, double time, const Energies& e, double initial_energy, const EnergyFlows& flows,
+                       const StepStats& s, double record_ms, double wall_ms) {
+  const double dissipated = flows.dissipated();
+  const double budget_error = e.total() + dissipated - initial_energy - flows.external_work;
   std::ostringstream out;
   out << std::setprecision(10) << frame << ',' << time << ',' << e.kinetic << ','
       << e.gravitational + e.elastic << ',' << e.gravitational << ',' << e.elastic << ',' << e.terms.springs
@@ -68,7 +73,8 @@ std::string stats_line(int frame, double time, const Energies& e, double dissipa
       << s.narrow_phase_ms << ',' << s.response_ms << ',' << s.total_ms << ',' << s.vertex_face_candidates
       << ',' << s.edge_edge_candidates << ',' << s.proximity_contacts << ',' << s.ccd_impulses << ','
       << s.impact_zone_vertices << ',' << (s.collisions_clean ? 1 : 0) << ',' << s.strain_limited_edges << ','
-      << s.residual << ',' << s.unconverged_steps;
+      << s.residual << ',' << s.unconverged_steps << ',' << flows.external_work << ',' << flows.damping << ','
+      << flows.integrator << ',' << flows.contact << ',' << flows.plastic << ',' << budget_error;
   return out.str();
 }
 
@@ -92,7 +98,7 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
     if (values.size() == columns.size()) table.push_back(values);
   }
   double wall = 0.0, wall_max = 0.0, newton = 0.0, newton_max = 0.0, contacts_max = 0.0;
-  double unconverged = 0.0, residual_max = 0.0;
+  double unconverged = 0.0, residual_max = 0.0, budget_error_max = 0.0;
   for (size_t r = 1; r < table.size(); ++r) {  // frame 0 is the initial state, not simulated
     wall += table[r][column("wall_ms")];
     wall_max = std::max(wall_max, table[r][column("wall_ms")]);
@@ -101,6 +107,7 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
     contacts_max = std::max(contacts_max, table[r][column("contacts")]);
     unconverged += table[r][column("unconverged_steps")];
     residual_max = std::max(residual_max, table[r][column("newton_residual")]);
+    budget_error_max = std::max(budget_error_max, std::abs(table[r][column("budget_error")]));
   }
   const int simulated = table.empty() ? 0 : static_cast<int>(table.size()) - 1;
   nlohmann::json summary = {
@@ -122,7 +129,13 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
         {"initial_total", first[column("kinetic_energy")] + first[column("potential_energy")]},
         {"final_kinetic", last[column("kinetic_energy")]},
         {"final_potential", last[column("potential_energy")]},
-        {"dissipated", last[column("energy_dissipated")]}};
+        {"dissipated", last[column("energy_dissipated")]},
+        {"external_work", last[column("external_work")]},
+        {"dissipated_by", {{"damping", last[column("dissipated_damping")]},
+                           {"integrator", last[column("dissipated_integrator")]},
+                           {"contact", last[column("dissipated_contact")]},
+                           {"plastic", last[column("dissipated_plastic")]}}},
+        {"budget_error_max", budget_error_max}};
   }
   return summary;
 }
@@ -156,6 +169,7 @@ class Run {
   int first_frame_ = 0;  // the frame to record first (0, or the checkpoint's + 1)
   int frames_written_ = 0;
   double initial_energy_ = 0.0;
+  EnergyFlows energy_flows_;             // summed from frame 0
   std::vector<std::string> stats_rows_;  // every stats.csv row so far, for summary.json
   CsvLog stats_log_;
   Checkpoint checkpoint_;
@@ -239,6 +253,7 @@ int Run::load() {
     restore_checkpoint(checkpoint_, world_, (out_ / checkpoint_file).string());
     first_frame_ = checkpoint_.frame + 1;
     initial_energy_ = checkpoint_.initial_energy;
+    energy_flows_ = checkpoint_.energy_flows;
   } else {
     initial_energy_ = world_.energies().total();
   }
@@ -268,7 +283,7 @@ void Run::write_summary(const std::string& status, int exit_code, const nlohmann
 
 void Run::write_checkpoint_now(int frame) const {
   write_checkpoint((out_ / checkpoint_file).string(),
-                   capture_checkpoint(world_, frame, scene_json_, initial_energy_));
+                   capture_checkpoint(world_, frame, scene_json_, initial_energy_, energy_flows_));
 }
 
 int Run::execute() {
@@ -341,8 +356,9 @@ int Run::record_and_step() {
     recording.write_frame(frame, world_);
     const Energies energies = world_.energies();
     const double record_ms = ms_since(record_start);
-    stats_rows_.push_back(stats_line(frame, world_.time(), energies, initial_energy_ - energies.total(),
-                                     steps, record_ms, frame == 0 ? 0.0 : ms_since(frame_start)));
+    energy_flows_ += steps.energy_flows;
+    stats_rows_.push_back(stats_line(frame, world_.time(), energies, initial_energy_, energy_flows_, steps,
+                                     record_ms, frame == 0 ? 0.0 : ms_since(frame_start)));
     stats_log_.append(stats_rows_.back());
     frames_written_ = frame + 1;
     if (options_.checkpoint_every > 0 && frame > 0 && frame % options_.checkpoint_every == 0) {

@@ -82,7 +82,12 @@ std::string plot_into(const fs::path& dir, const std::vector<Series>& runs) {
       {"column('kinetic_energy')", "kinetic"},
       {"column('potential_energy')", "potential"},
       {"column('kinetic_energy') + column('potential_energy')", "total"},
-      {"column('energy_dissipated')", "dissipated"}};
+      {"column('energy_dissipated')", "dissipated"},
+      {"column('external_work')", "external work"},
+      // The budget: flat at the initial energy when it closes (sim/energy_ledger.hpp).
+      {"column('kinetic_energy') + column('potential_energy') + column('energy_dissipated') - "
+       "column('external_work')",
+       "total + dissipated - external work"}};
   const std::vector<std::pair<std::string, std::string>> energy_sweep = {
       {"column('kinetic_energy') + column('potential_energy')", "total"}};
   const std::vector<std::pair<std::string, std::string>> phases = {
@@ -118,7 +123,7 @@ std::string plot_into(const fs::path& dir, const std::vector<Series>& runs) {
 // The columns plot_into reads.
 const std::vector<std::string> plotted_columns = {
     "frame",        "kinetic_energy", "potential_energy",  "energy_dissipated", "wall_ms",
-    "integrate_ms", "collisions_ms",  "move_colliders_ms", "record_ms"};
+    "integrate_ms", "collisions_ms",  "move_colliders_ms", "record_ms", "external_work"};
 
 // Checks a stats.csv before gnuplot sees it (gnuplot says little about a damaged file): a header
 // with the plotted columns, then rows of as many numbers. Returns "FILE: line N: ...", or empty.

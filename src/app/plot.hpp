@@ -1,6 +1,7 @@
 #pragma once
 // `weft plot DIR`: PNG plots of a run's stats.csv with gnuplot: energy.png (kinetic, potential,
-// total and dissipated energy per frame) and time.png (milliseconds per phase per frame). For a
+// total and dissipated energy per frame, external work, and the budget total + dissipated -
+// external work, flat when it closes) and time.png (milliseconds per phase per frame). For a
 // sweep folder (cases in sub-folders) each case gets its plots and the folder gets both plots
 // with one line per case.
 #include <string>

@@ -122,8 +122,9 @@ void unpack_membrane_rest(const Eigen::MatrixXd& packed, std::vector<MembraneRes
 }  // namespace
 
 Checkpoint capture_checkpoint(const World& world, int frame, const std::string& scene_json,
-                              double initial_energy) {
+                              double initial_energy, const EnergyFlows& energy_flows) {
   Checkpoint checkpoint;
+  checkpoint.energy_flows = energy_flows;
   checkpoint.scene_json = scene_json;
   checkpoint.frame = frame;
   checkpoint.time = world.time();
@@ -214,6 +215,10 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
   for (const auto& pair : checkpoint.contact_pairs) {
     for (const int index : pair) payload.value<int32_t>(index);
   }
+  const EnergyFlows& flows = checkpoint.energy_flows;
+  for (const double flow : {flows.external_work, flows.damping, flows.integrator, flows.contact, flows.plastic}) {
+    payload.value<double>(flow);
+  }
   write_file_atomically(path, [&](std::ostream& out) {
     const uint32_t version = checkpoint_version, reserved = 0;
     const uint64_t size = payload.bytes().size(), hash = fnv1a(payload.bytes());
@@ -239,7 +244,7 @@ Checkpoint read_checkpoint(const std::string& path) {
   uint64_t size = 0, hash = 0;
   std::memcpy(&version, file.data() + 8, sizeof version);
   std::memcpy(&size, file.data() + 16, sizeof size);
-  if (version != checkpoint_version && version != 2) {
+  if (version != checkpoint_version && version != 3 && version != 2) {
     throw IoError(path + ": checkpoint version: expected " + std::to_string(checkpoint_version) + ", got " +
                   std::to_string(version));
   }
@@ -290,7 +295,13 @@ Checkpoint read_checkpoint(const std::string& path) {
       for (int& index : pair) index = payload.value<int32_t>("contact pair");
     }
   }
-  if (!payload.at_end()) throw IoError(path + ": checkpoint: unexpected bytes after the contact pairs");
+  if (version >= 4) {
+    EnergyFlows& flows = checkpoint.energy_flows;
+    for (double* flow : {&flows.external_work, &flows.damping, &flows.integrator, &flows.contact, &flows.plastic}) {
+      *flow = payload.value<double>("energy flows");
+    }
+  }
+  if (!payload.at_end()) throw IoError(path + ": checkpoint: unexpected bytes after the energy flows");
   return checkpoint;
 }
 

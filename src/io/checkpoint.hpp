@@ -2,7 +2,7 @@
 // Checkpoints: the full state of a run at a frame boundary, so a killed run can resume and
 // produce exactly the frames an uninterrupted run would have.
 //
-// File layout (little-endian), version 3:
+// File layout (little-endian), version 4:
 //   char[8] "WEFTCKPT"  uint32 version  uint32 reserved (0)  uint64 payload bytes
 //   payload                                          (below)
 //   uint64 FNV-1a 64-bit hash of the payload
@@ -14,10 +14,13 @@
 //   uint32 collider count, per collider: string name, vec3 center, vec3 normal, float64 radius,
 //     vec3 half_extents;
 //   uint64 contact pair count, per pair int32 kind, a, b (World::contact_history: the last
-//     step's proximity pairs, which the contact penalty of the next step reads).
+//     step's proximity pairs, which the contact penalty of the next step reads);
+//   float64 x 5 energy flows since frame 0 (external work, damping, integrator, contact,
+//     plastic: sim/energy_ledger.hpp).
 // string: uint64 length + bytes; matrix: uint64 rows, uint64 cols, rows*cols float64 column-major.
-// Scripted pins need nothing: they follow from the time. Version 2 files (no contact pairs) are
-// read with none; version 1 files (no membrane rest) are refused with the version they hold.
+// Scripted pins need nothing: they follow from the time. Version 3 files (no energy flows) are
+// read with flows of zero, so a resumed run's budget_error carries the flows of the frames
+// before it; version 2 files (no contact pairs) are read with none; version 1 files (no membrane rest) are refused with the version they hold.
 #include <array>
 #include <string>
 #include <vector>
@@ -27,7 +30,7 @@
 
 namespace weft {
 
-inline constexpr unsigned checkpoint_version = 3;
+inline constexpr unsigned checkpoint_version = 4;
 
 struct ClothCheckpoint {
   std::string name;
@@ -55,10 +58,11 @@ struct Checkpoint {
   std::vector<ClothCheckpoint> cloths;
   std::vector<ColliderCheckpoint> colliders;
   std::vector<std::array<int, 3>> contact_pairs;  // World::contact_history()
+  EnergyFlows energy_flows;     // J, summed from frame 0 to `frame` (stats.csv's budget columns)
 };
 
 Checkpoint capture_checkpoint(const World& world, int frame, const std::string& scene_json,
-                              double initial_energy);
+                              double initial_energy, const EnergyFlows& energy_flows = {});
 
 // Puts the checkpoint's state into a world built from the same scene. Throws IoError naming
 // `file` when the world does not match (cloth or collider count, names, vertex counts).

@@ -74,7 +74,7 @@ void World::step() {
 
     time_ += h;
     phase_start = Clock::now();
-    stats.yielded_triangles += update_rest_state();
+    stats.yielded_triangles += update_rest_state(stats.energy_flows);
     stats.rest_update_ms += milliseconds_since(phase_start);
   }
   stats.total_ms = milliseconds_since(step_start);
@@ -110,6 +110,8 @@ void World::integrate(double h, StepStats& stats) {
     // External forces (the viewer's mouse spring) enter as an impulse v += h M^-1 f; pinned
     // vertices have inverse mass 0.
     const Positions& external_force = external_forces_[c];
+    const bool budget = settings.energy_budget;
+    const double kinetic_before = budget ? kinetic_energy(cloth) : 0.0;
     if (!external_force.isZero(0.0)) {
       cloth.state.v.noalias() += h * (external_force * cloth.model.inverse_mass.asDiagonal());
     }
@@ -117,6 +119,10 @@ void World::integrate(double h, StepStats& stats) {
     // never move a pinned vertex otherwise, and placing them afterwards removes round-off.
     const bool scripted = !cloth.model.scripted_pins.empty();
     if (scripted) drive_scripted_pins(cloth.model.scripted_pins, time_, h, cloth.state.x, cloth.state.v);
+    if (budget) {
+      stats.energy_flows.external_work += kinetic_energy(cloth) - kinetic_before;
+      solvers.ledger.begin(cloth, settings.gravity, energy_identity() == EnergyIdentity::symplectic_euler);
+    }
     solvers.penalty.stiffness = settings.collision.enabled ? settings.collision.penalty_stiffness : 0.0;
     if (solvers.penalty.stiffness > 0.0 && settings.integrator == IntegratorKind::implicit_euler) {
       collisions_.penalty_contacts(static_cast<int>(c), solvers.penalty);
@@ -125,7 +131,30 @@ void World::integrate(double h, StepStats& stats) {
     }
     integrate_cloth(cloth, solvers, h, stats);
     if (scripted) place_scripted_pins(cloth.model.scripted_pins, time_ + h, cloth.state.x);
+    if (budget) {
+      switch (energy_identity()) {
+        case EnergyIdentity::implicit_euler:
+          stats.energy_flows += solvers.ledger.implicit_euler(cloth, settings.gravity, h, &solvers.penalty);
+          break;
+        case EnergyIdentity::symplectic_euler:
+          stats.energy_flows += solvers.ledger.symplectic_euler(cloth, settings.gravity);
+          break;
+        case EnergyIdentity::none:
+          stats.energy_flows += solvers.ledger.whole_change(cloth, settings.gravity);
+          break;
+      }
+    }
   }
+}
+
+// The energy identity the ledger applies (energy_ledger.hpp): implicit Euler, symplectic Euler
+// taking one step, or none (any other integrator, adaptive sub-steps).
+EnergyIdentity World::energy_identity() const {
+  if (settings.integrator == IntegratorKind::implicit_euler) return EnergyIdentity::implicit_euler;
+  if (settings.integrator == IntegratorKind::symplectic_euler && !settings.adaptive.enabled) {
+    return EnergyIdentity::symplectic_euler;
+  }
+  return EnergyIdentity::none;
 }
 
 void World::integrate_cloth(Cloth& cloth, ClothSolvers& solvers, double h, StepStats& stats) {
@@ -167,11 +196,14 @@ void World::integrate_cloth(Cloth& cloth, ClothSolvers& solvers, double h, StepS
 }
 
 // Plastic flow: membrane rest shapes follow strains past the yield limit (DESIGN.md step 4).
-int World::update_rest_state() {
+// The elastic energy the flow releases is the plastic term of the energy budget.
+int World::update_rest_state(EnergyFlows& flows) {
   int yielded = 0;
   for (Cloth& cloth : cloths_) {
     if (cloth.model.membrane.plastic()) {
+      const double before = settings.energy_budget ? potential_energy(cloth, settings.gravity) : 0.0;
       yielded += apply_membrane_plasticity(cloth.model.membrane, cloth.model.triangles, cloth.state.x);
+      if (settings.energy_budget) flows.plastic += before - potential_energy(cloth, settings.gravity);
     }
   }
   return yielded;
@@ -189,6 +221,14 @@ void World::resolve_collisions(double h, StepStats& stats) {
     stats.collisions_clean = false;  // diverged: left to the caller's divergence check
     return;
   }
+  // The collision phase's change of energy is the contact term of the budget; the solve left
+  // each cloth's potential in its ledger.
+  double energy_before = 0.0;
+  if (settings.energy_budget) {
+    for (size_t c = 0; c < cloths_.size(); ++c) {
+      energy_before += kinetic_energy(cloths_[c]) + solvers_[c]->ledger.end_potential();
+    }
+  }
   phase.find_candidates();
   phase.apply_proximity();
   phase.limit_strain();
@@ -199,6 +239,11 @@ void World::resolve_collisions(double h, StepStats& stats) {
     if (!phase.verify_motion()) break;
   }
   phase.scatter_motion(cloths_);
+  if (settings.energy_budget) {
+    double energy_after = 0.0;
+    for (const Cloth& cloth : cloths_) energy_after += kinetic_energy(cloth) + potential_energy(cloth, settings.gravity);
+    stats.energy_flows.contact += energy_before - energy_after;
+  }
 
   const CollisionPhaseStats& totals = phase.stats();  // summed over the sub-steps so far
   stats.broad_phase_ms = totals.broad_ms;
@@ -254,6 +299,7 @@ StepStats& StepStats::operator+=(const StepStats& step) {
   unmet_tolerance_steps += step.unmet_tolerance_steps;
   residual = std::max(residual, step.residual);
   unconverged_steps += step.unconverged_steps;
+  energy_flows += step.energy_flows;
   return *this;
 }
 

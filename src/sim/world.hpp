@@ -15,6 +15,7 @@
 #include "physics/midpoint_euler_cromer.hpp"
 #include "physics/xpbd.hpp"
 #include "sim/collision_phase.hpp"
+#include "sim/energy_ledger.hpp"
 
 namespace weft {
 
@@ -28,6 +29,9 @@ struct SolverSettings {
   AdaptiveSettings adaptive;       // adaptive sub-stepping (symplectic_euler, midpoint)
   int threads = 1;                 // OpenMP threads for the step (1: serial; results do not depend on it)
   CollisionSettings collision;     // the collision phase (collision_phase.hpp)
+  // Measure the energy budget's flows each step (sim/energy_ledger.hpp; StepStats::energy_flows):
+  // two or three potential-energy evaluations a step, one with its gradient.
+  bool energy_budget = true;
 };
 
 struct Energies {
@@ -67,6 +71,7 @@ struct StepStats {
   int unconverged_steps = 0;     // implicit Euler: cloth steps that ended with the residual above
                                  // the Newton tolerance (iteration cap, or no descent left)
   int yielded_triangles = 0;     // plasticity: triangles whose rest shape flowed
+  EnergyFlows energy_flows;      // the step's energy budget (settings.energy_budget), J
 
   // Sums the counts and times of `step` into this (the residual keeps the largest).
   StepStats& operator+=(const StepStats& step);
@@ -126,12 +131,14 @@ class World {
     ExplicitWorkspace explicit_workspace;
     AdaptiveState adaptive;
     ClothState trial;
+    SolveLedger ledger;      // settings.energy_budget: the solve phase's flows
   };
 
   void move_colliders(double h);
   void integrate(double h, StepStats& stats);
   void resolve_collisions(double h, StepStats& stats);
-  int update_rest_state();
+  int update_rest_state(EnergyFlows& flows);
+  EnergyIdentity energy_identity() const;
   void integrate_cloth(Cloth& cloth, ClothSolvers& solvers, double h, StepStats& stats);
 
   std::vector<Cloth> cloths_;
