@@ -87,6 +87,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   report_.residual = 0.0;
   report_.projected_hessians = 0;
   report_.stretched_steps = 0;
+  report_.diverged_stops = 0;
   report_.gradient_norms.clear();
 
   // Inertial predictor; pinned vertices keep their (zero) velocity, so they stay put.
@@ -114,6 +115,22 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   };
   report_.residual = newton_residual(gradient_, model.inverse_mass, h);
   report_.converged = report_.residual < settings.newton_tolerance;
+  // The iterate with the smallest residual so far. Phi can keep falling by ever smaller amounts
+  // while the residual grows by orders of magnitude: a hinge's wing collapsing towards zero height
+  // (cheap when the membrane resists compression at 1%), where the angle's gradient grows as
+  // 1 / height and the energy stays bounded. The 64x64 drape had steps run their 30 iterations
+  // that way and end with residuals of 1e7 m/s (2026-11-25). An iteration diverges when its
+  // residual is over `diverging_factor` times the best and it lowered Phi by less than
+  // `stalled_fraction` of the step's decrease so far; after `diverging_iterations` of them in a
+  // row the step stops and returns the best iterate, unconverged. (The residual alone is no merit
+  // function: a stiff step's first iterates may raise it while Phi falls a lot.)
+  constexpr int diverging_iterations = 3;
+  constexpr double diverging_factor = 100.0;
+  constexpr double stalled_fraction = 1e-3;
+  best_x_ = x;
+  double best_residual = report_.residual;
+  const double start_value = value;
+  int diverging = 0;
   double cg_tolerance = std::max(settings.cg_tolerance, settings.cg_initial_tolerance);
   for (int iteration = 0; iteration < settings.max_newton_iterations && !report_.converged; ++iteration) {
     report_.gradient_norms.push_back(gradient_vector().norm());
@@ -152,6 +169,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
                                                /*project=*/false)
                        : evaluate_for_newton(point);
     };
+    const double value_before = value;
     double alpha = 1.0;
     trial_.noalias() = x + step;
     double trial_value = evaluate_accepted(trial_);
@@ -199,6 +217,18 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     }
     report_.residual = newton_residual(gradient_, model.inverse_mass, h);
     report_.converged = report_.residual < settings.newton_tolerance;
+    const bool stalled = value_before - value < stalled_fraction * (start_value - value);
+    if (report_.residual < best_residual) {
+      best_residual = report_.residual;
+      best_x_ = x;
+    }
+    diverging = report_.residual > diverging_factor * best_residual && stalled ? diverging + 1 : 0;
+    if (diverging >= diverging_iterations) {
+      report_.diverged_stops = 1;
+      x = best_x_;
+      report_.residual = best_residual;
+      break;
+    }
   }
   report_.gradient_norms.push_back(gradient_vector().norm());
   state.v = (x - x_start_) / h;

@@ -41,7 +41,7 @@ struct ImplicitEulerSettings {
   int max_cg_iterations = 2000;
 };
 
-// What the last step did.
+// What the last step did. The step ends at the iterate with the smallest residual it reached.
 struct NewtonReport {
   int newton_iterations = 0;
   int linear_iterations = 0;  // CG iterations summed over Newton iterations (0 for Cholesky)
@@ -50,6 +50,8 @@ struct NewtonReport {
   int projected_hessians = 0;          // Cholesky only: iterations whose exact Hessian was not positive
                                        // definite, so the element-wise projected one was solved instead
   int stretched_steps = 0;              // Newton steps the line search stretched past dx (max_step_expansion)
+  int diverged_stops = 0;               // 1 when the step stopped with the residual far above its best
+                                        // for several iterations (the best iterate is returned)
   std::vector<double> gradient_norms;  // |grad of incremental potential| over free vertices, per iteration
 };
 
@@ -82,6 +84,7 @@ class ImplicitEulerSolver {
   SparseHessian hessian_;
   HessianStencils stencils_;
   Positions x_start_, x_hat_, gradient_, trial_;
+  Positions best_x_;  // the iterate with the smallest residual so far
   Eigen::VectorXd free_mask_;  // 1 for free coordinates, 0 for pinned (3n)
   Eigen::VectorXd rhs_, dx_;
   Eigen::VectorXd gravity_drop_;  // h^2 g on free coordinates: CG's guess on a step's first solve
