@@ -129,6 +129,7 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
 
 // A scene as its resolved JSON without "frames", which a resumed run may change.
 nlohmann::json comparable_scene(nlohmann::json scene) {
+  scene = simulated_part(std::move(scene));
   scene.erase("frames");
   return scene;
 }
