@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 
+#include "app/progress.hpp"
 #include "core/error.hpp"
 #include "render/orbit_camera.hpp"
 #include "render/picking.hpp"
@@ -345,13 +346,22 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
   place_camera(camera, session.scene().view, session.world(), viewport.aspect());
   std::string shown_scene = session.scene_path();
 
-  // Screenshot: a fixed number of frames, independent of wall time, then one picture.
+  // Screenshot: a fixed number of frames, independent of wall time, then one picture; progress
+  // lines once it takes longer than a moment.
   const bool screenshot = !options.screenshot_path.empty();
   if (screenshot) {
+    ProgressReporter progress(options.frames, true, {"screenshot " + options.screenshot_path, 2.0, 1.0});
+    session.before_step = [&](World& world) {
+      mouse.apply(world);
+      progress.update(session.frame(), session.step_in_frame(), session.schedule().steps_per_frame);
+    };
     for (int frame = 0; frame < options.frames; ++frame) {
       session.advance_frame();
       state.history.record(session.world());
+      progress.update(session.frame());
     }
+    progress.finish(session.frame());
+    session.before_step = [&mouse](World& world) { mouse.apply(world); };
   }
   // ImGui lays its windows out over a few frames: a picture with panels is taken on the third.
   int screenshot_frames_left = state.panels_in_pictures ? 3 : 1;
@@ -359,6 +369,8 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
   state.record_frames = !options.record_dir.empty();
   const std::string record_dir = options.record_dir.empty() ? "weft_record" : options.record_dir;
   int recorded = 0;
+  // Pictures saved so far, every few seconds while recording.
+  ProgressReporter record_progress(0, true, {"recording into " + record_dir + " (pictures)", 2.0, 5.0});
 
   using Clock = std::chrono::steady_clock;
   Clock::time_point last_time = Clock::now();
@@ -454,6 +466,7 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
         char name[32];
         std::snprintf(name, sizeof(name), "/frame_%05d.png", recorded++);
         save_back_buffer_png(record_dir + name, viewport.framebuffer_width, viewport.framebuffer_height);
+        record_progress.update(recorded);
       }
     } catch (const IoError& error) {
       std::fprintf(stderr, "weft: %s\n", error.what());
@@ -468,6 +481,7 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
     glfwSwapBuffers(window);
     if (take_screenshot) break;
   }
+  if (recorded > 0) record_progress.finish(recorded);
   session.before_step = nullptr;
   return 0;
 }
