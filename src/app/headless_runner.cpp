@@ -142,6 +142,7 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
 
 // A scene as its resolved JSON without "frames", which a resumed run may change.
 nlohmann::json comparable_scene(nlohmann::json scene) {
+  scene = simulated_part(std::move(scene));
   scene.erase("frames");
   return scene;
 }
@@ -380,6 +381,7 @@ int Run::record_and_step() {
       world_.step();
       frame_steps += world_.last_step_stats();
       problem = check_state(world_, options_.limits);
+      progress.update(frame - 1, step + 1, schedule.steps_per_frame);
     }
     if (!problem.found) problem = check_strain(world_, options_.limits);
     if (!problem.found && frame_steps.unmet_tolerance_steps > 0) {

@@ -14,6 +14,7 @@
 #include "app/headless_runner.hpp"
 #include "app/plot.hpp"
 #include "app/sweep.hpp"
+#include "io/scene_file.hpp"
 #include "io/sweep_file.hpp"
 #include "sim/scene_desc.hpp"
 #include "sim/world.hpp"
@@ -54,6 +55,29 @@ CLI::Validator non_negative_number(const std::string& what) {
       "NUMBER");
 }
 
+// A window size "WIDTHxHEIGHT" in pixels, each in [64, 8192]; parsed into `width` and `height`.
+bool parse_window_size(const std::string& text, int& width, int& height) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x') return false;
+  if (w < 64 || w > 8192 || h < 64 || h > 8192) return false;
+  width = w;
+  height = h;
+  return true;
+}
+
+CLI::Validator window_size() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        int width = 0, height = 0;
+        if (!parse_window_size(text, width, height)) {
+          return "expected WIDTHxHEIGHT in pixels, each from 64 to 8192 (e.g. 960x540), got '" + text + "'";
+        }
+        return {};
+      },
+      "WxH");
+}
+
 int run(int argc, char** argv) {
   CLI::App app{"Weft: cloth and soft-body simulation"};
   weft::HeadlessOptions headless_options;
@@ -68,6 +92,7 @@ int run(int argc, char** argv) {
   int box_depth = 0;
   int subdivision = 0;
   bool test_contacts = false;
+  std::string window_size_text = "1280x720";
 
   app.add_option("scene", headless_options.scene_path, "Scene file (JSON)")->capture_default_str();
   app.add_flag("--headless", headless, "Run without a window and record to --out");
@@ -81,17 +106,20 @@ int run(int argc, char** argv) {
   app.add_option("--screenshot", screenshot, "Viewer: simulate --frames frames, save a PNG and exit");
   app.add_option("--record", record_dir, "Viewer: save every drawn frame as DIR/frame_NNNNN.png");
   app.add_option("--show", show,
-                 "Viewer display switches: boxes, contacts, no-contacts, wireframe, strain, no-pins, no-grid, no-colliders, cutaway, "
-                 "panels (the ImGui panels in saved pictures too)")
+                 "Viewer display switches, over the scene's \"view\": boxes, contacts, wireframe, strain, pins, grid, "
+                 "colliders, cutaway, panels (the ImGui panels in saved pictures too), each with a no- form "
+                 "(no-contacts) that turns it off")
       ->delimiter(',')
-      ->check(CLI::IsMember({"boxes", "contacts", "no-contacts", "wireframe", "strain", "no-pins", "no-grid",
-                             "no-colliders", "cutaway", "panels"}));
+      ->check(CLI::IsMember(weft::display_switch_names));
   app.add_option("--open-panel", open_panels, "Viewer: start with this panel expanded and in front")
       ->check(CLI::IsMember({"Simulation", "Solver", "Material", "Display and collisions", "Plots"}));
   app.add_option("--box-depth", box_depth, "Viewer: bounding-box hierarchy depth shown with --show boxes")
       ->check(whole_number("levels", 0, 16, "from 0 to 16"));
   app.add_option("--subdivide", subdivision, "Viewer: Loop subdivision levels of the displayed cloth")
       ->check(whole_number("levels", 0, 2, "from 0 to 2"));
+  app.add_option("--size", window_size_text, "Viewer: window (and saved picture) size in pixels, WIDTHxHEIGHT")
+      ->check(window_size())
+      ->capture_default_str();
   app.add_flag("--test-contacts", test_contacts, "Viewer: draw synthetic contacts (tests the contact display)");
   app.add_flag("--quiet", headless_options.quiet, "Headless: no progress output");
   app.add_option("--threads", headless_options.threads,
@@ -197,6 +225,7 @@ int run(int argc, char** argv) {
   options.box_depth = box_depth;
   options.subdivision = subdivision;
   options.test_contacts = test_contacts;
+  parse_window_size(window_size_text, options.width, options.height);
   return weft::run_viewer(options);
 #else
   std::fprintf(stderr,

@@ -11,6 +11,7 @@
 #include "io/checkpoint.hpp"
 #include "io/output_lock.hpp"
 #include "io/point_cache.hpp"
+#include "io/scene_file.hpp"
 
 namespace weft {
 
@@ -132,8 +133,10 @@ RecordedCase recorded_case(const fs::path& case_dir, const nlohmann::json& scene
   }
   // The resolved scene covers the overrides, the sweep's frames and edits to the scene file. A
   // case asking for other frames only may go on from its checkpoint; any other change may not.
+  // The view is the viewer's only and not compared.
   nlohmann::json recorded_scene = run.value("scene", nlohmann::json::object());
-  nlohmann::json wanted_scene = scene;
+  nlohmann::json wanted_scene = simulated_part(scene);
+  if (recorded_scene.is_object()) recorded_scene = simulated_part(recorded_scene);
   recorded.frames_changed = recorded_scene.value("frames", -1) != wanted_scene.value("frames", -1);
   if (recorded_scene.is_object()) recorded_scene.erase("frames");
   wanted_scene.erase("frames");

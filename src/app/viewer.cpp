@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 
+#include "app/progress.hpp"
 #include "core/error.hpp"
 #include "render/orbit_camera.hpp"
 #include "render/picking.hpp"
@@ -273,22 +274,54 @@ std::string take_gl_errors() {
   return message;
 }
 
-ViewOptions view_options_from(const ViewerOptions& options) {
+// The display switches of the scene's "view", then the command line's --show, which win.
+std::vector<std::string> display_switches(const ViewerOptions& options, const SceneView& scene_view) {
+  std::vector<std::string> switches = scene_view.show;
+  switches.insert(switches.end(), options.show.begin(), options.show.end());
+  return switches;
+}
+
+// What the view shows at start: the scene's "view" (docs/scenes.md) with the command line over it.
+ViewOptions view_options_from(const ViewerOptions& options, const SceneView& scene_view) {
   ViewOptions view;
   view.subdivision_levels = std::clamp(options.subdivision, 0, 2);
   view.box_depth = std::max(options.box_depth, 0);
-  for (const std::string& item : options.show) {
-    if (item == "boxes") view.boxes = true;
-    if (item == "contacts") view.contacts = true;
-    if (item == "no-contacts") view.contacts = false;
-    if (item == "wireframe") view.wireframe = true;
-    if (item == "strain") view.strain = true;
-    if (item == "no-pins") view.pins = false;
-    if (item == "no-grid") view.ground_grid = false;
-    if (item == "no-colliders") view.colliders = false;
-    if (item == "cutaway") view.cutaway = true;
+  view.impulse_scale = scene_view.impulse_scale;
+  view.max_arrow_length = scene_view.max_arrow_length;
+  // Names as in display_switch_names (io/scene_file.hpp); "no-" turns the switch off.
+  for (const std::string& item : display_switches(options, scene_view)) {
+    const bool on = item.rfind("no-", 0) != 0;
+    const std::string name = on ? item : item.substr(3);
+    if (name == "boxes") view.boxes = on;
+    if (name == "contacts") view.contacts = on;
+    if (name == "wireframe") view.wireframe = on;
+    if (name == "strain") view.strain = on;
+    if (name == "pins") view.pins = on;
+    if (name == "grid") view.ground_grid = on;
+    if (name == "colliders") view.colliders = on;
+    if (name == "cutaway") view.cutaway = on;
   }
   return view;
+}
+
+// Whether saved pictures include the panels: "panels" asked for, or a panel to open (asking for a
+// panel means wanting to see it), unless "no-panels" comes last.
+bool panels_in_pictures(const ViewerOptions& options, const SceneView& scene_view) {
+  bool panels = !options.open_panels.empty();
+  for (const std::string& item : display_switches(options, scene_view)) {
+    if (item == "panels") panels = true;
+    if (item == "no-panels") panels = false;
+  }
+  return panels;
+}
+
+// The camera where the scene's "view" puts it: its angles, the whole scene framed, then its target
+// and distance where it gives them.
+void place_camera(OrbitCamera& camera, const SceneView& scene_view, const World& world, double aspect) {
+  camera.set_angles(scene_view.yaw_degrees * pi / 180.0, scene_view.pitch_degrees * pi / 180.0);
+  camera.frame(world_bounds(world), aspect);
+  if (scene_view.has_target) camera.set_target(scene_view.target);
+  if (scene_view.distance > 0.0) camera.set_distance(scene_view.distance);
 }
 
 // Runs the window until it is closed, or draws one screenshot. Returns the exit code.
@@ -296,11 +329,8 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
   ImGuiLayer imgui(window);
   Renderer renderer(WEFT_SHADER_DIR);
   ViewerState state;
-  state.view = view_options_from(options);
-  // Asking for a panel to be open means wanting to see it: --open-panel implies the panels in
-  // saved pictures.
-  state.panels_in_pictures = std::find(options.show.begin(), options.show.end(), "panels") != options.show.end() ||
-                             !options.open_panels.empty();
+  state.view = view_options_from(options, session.scene().view);
+  state.panels_in_pictures = panels_in_pictures(options, session.scene().view);
   state.scene_files = list_scene_files(std::filesystem::path(session.scene_path()).parent_path().string());
   if (state.scene_files.empty()) state.scene_files.push_back(session.scene_path());
   WorldMeshes meshes = show_world(renderer, session.world(), state.view);
@@ -313,15 +343,25 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
   glfwGetFramebufferSize(window, &viewport.framebuffer_width, &viewport.framebuffer_height);
   glfwGetWindowSize(window, &viewport.window_width, &viewport.window_height);
   OrbitCamera camera;
-  camera.frame(world_bounds(session.world()), viewport.aspect());
+  place_camera(camera, session.scene().view, session.world(), viewport.aspect());
+  std::string shown_scene = session.scene_path();
 
-  // Screenshot: a fixed number of frames, independent of wall time, then one picture.
+  // Screenshot: a fixed number of frames, independent of wall time, then one picture; progress
+  // lines once it takes longer than a moment.
   const bool screenshot = !options.screenshot_path.empty();
   if (screenshot) {
+    ProgressReporter progress(options.frames, true, {"screenshot " + options.screenshot_path, 2.0, 1.0});
+    session.before_step = [&](World& world) {
+      mouse.apply(world);
+      progress.update(session.frame(), session.step_in_frame(), session.schedule().steps_per_frame);
+    };
     for (int frame = 0; frame < options.frames; ++frame) {
       session.advance_frame();
       state.history.record(session.world());
+      progress.update(session.frame());
     }
+    progress.finish(session.frame());
+    session.before_step = [&mouse](World& world) { mouse.apply(world); };
   }
   // ImGui lays its windows out over a few frames: a picture with panels is taken on the third.
   int screenshot_frames_left = state.panels_in_pictures ? 3 : 1;
@@ -329,6 +369,8 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
   state.record_frames = !options.record_dir.empty();
   const std::string record_dir = options.record_dir.empty() ? "weft_record" : options.record_dir;
   int recorded = 0;
+  // Pictures saved so far, every few seconds while recording.
+  ProgressReporter record_progress(0, true, {"recording into " + record_dir + " (pictures)", 2.0, 5.0});
 
   using Clock = std::chrono::steady_clock;
   Clock::time_point last_time = Clock::now();
@@ -379,6 +421,12 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
     // Views follow the world: re-register after a reload or a new subdivision level, else push positions.
     if (session.generation() != shown_generation || state.view.subdivision_levels != meshes.subdivision_levels) {
       if (session.generation() != shown_generation) mouse.release(session.world());
+      if (session.scene_path() != shown_scene) {
+        // Another scene opens as its file says; a reset of the same one keeps the camera and switches.
+        shown_scene = session.scene_path();
+        state.view = view_options_from(options, session.scene().view);
+        place_camera(camera, session.scene().view, session.world(), viewport.aspect());
+      }
       meshes = show_world(renderer, session.world(), state.view);
       shown_generation = session.generation();
     } else {
@@ -418,6 +466,7 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
         char name[32];
         std::snprintf(name, sizeof(name), "/frame_%05d.png", recorded++);
         save_back_buffer_png(record_dir + name, viewport.framebuffer_width, viewport.framebuffer_height);
+        record_progress.update(recorded);
       }
     } catch (const IoError& error) {
       std::fprintf(stderr, "weft: %s\n", error.what());
@@ -432,6 +481,7 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
     glfwSwapBuffers(window);
     if (take_screenshot) break;
   }
+  if (recorded > 0) record_progress.finish(recorded);
   session.before_step = nullptr;
   return 0;
 }

@@ -11,8 +11,8 @@ struct ViewerOptions {
   std::string screenshot_path;         // if set: run `frames` frames, save a PNG, exit
   int frames = 0;                      // with screenshot_path: frames to simulate first
   std::string record_dir;              // if set: save every drawn frame as DIR/frame_NNNNN.png
-  std::vector<std::string> show;       // display switches: boxes, contacts, wireframe, strain,
-                                       // no-pins, no-grid, no-colliders, panels
+  std::vector<std::string> show;       // display switches (display_switch_names in io/scene_file.hpp),
+                                       // applied after the scene's "view": {"show": [...]}
   std::vector<std::string> open_panels;  // ImGui windows shown expanded from the start (by title)
   int box_depth = 0;                   // bounding-box depth with "boxes"
   int subdivision = 0;                 // Loop subdivision levels of the displayed cloth (0 to 2)

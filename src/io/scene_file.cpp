@@ -14,6 +14,11 @@ namespace weft {
 
 using nlohmann::json;
 
+const std::vector<std::string> display_switch_names = {
+    "boxes",     "no-boxes",  "contacts",  "no-contacts", "wireframe",    "no-wireframe", "strain",
+    "no-strain", "pins",      "no-pins",   "grid",        "no-grid",      "colliders",    "no-colliders",
+    "cutaway",   "no-cutaway", "panels",   "no-panels"};
+
 namespace {
 
 // Bounds on a number; `text` says them in words for the error message ("> 0").
@@ -180,6 +185,7 @@ const std::vector<std::pair<std::string, IntegratorKind>> integrator_names = {
     {"xpbd", IntegratorKind::xpbd}};
 const std::vector<std::pair<std::string, LinearSolverKind>> linear_solver_names = {
     {"conjugate_gradient", LinearSolverKind::conjugate_gradient}, {"cholesky", LinearSolverKind::cholesky}};
+const Range pitch_range{-88.0, 88.0, false, " in [-88, 88]"};
 const std::vector<std::string> corner_names = {"bottom_left", "bottom_right", "top_left", "top_right"};
 const std::vector<std::string> edge_names = {"bottom", "top", "left", "right"};
 
@@ -550,6 +556,18 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
       scene.colliders.push_back(read_collider((*colliders)[k], "/colliders/" + std::to_string(k), file));
     }
   }
+  if (const json* view_value = reader.find("view")) {
+    ObjectReader view(*view_value, "/view", file);
+    if (view.has("target")) scene.view.has_target = true;
+    view.vec3("target", scene.view.target);
+    view.number("distance", scene.view.distance, positive);
+    view.number("yaw_degrees", scene.view.yaw_degrees);
+    view.number("pitch_degrees", scene.view.pitch_degrees, pitch_range);
+    read_names(view, "show", scene.view.show, display_switch_names);
+    view.number("impulse_scale", scene.view.impulse_scale, positive);
+    view.number("max_arrow_length", scene.view.max_arrow_length, Range{0.0, 1.0, true, " in (0, 1]"});
+    view.finish();
+  }
   reader.finish();
   return scene;
 }
@@ -744,7 +762,20 @@ json scene_to_json(const SceneDesc& scene) {
                       {"angular_velocity_degrees", collider.motion.angular_velocity * 180.0 / pi}};
     document["colliders"].push_back(item);
   }
+  json view = {{"yaw_degrees", scene.view.yaw_degrees},
+               {"pitch_degrees", scene.view.pitch_degrees},
+               {"show", scene.view.show},
+               {"impulse_scale", scene.view.impulse_scale},
+               {"max_arrow_length", scene.view.max_arrow_length}};
+  if (scene.view.has_target) view["target"] = to_json(scene.view.target);
+  if (scene.view.distance > 0.0) view["distance"] = scene.view.distance;
+  document["view"] = view;
   return document;
+}
+
+json simulated_part(json resolved_scene) {
+  resolved_scene.erase("view");
+  return resolved_scene;
 }
 
 }  // namespace weft

@@ -10,6 +10,10 @@
 
 namespace weft {
 
+// The viewer's display switches, as "--show" and a scene's "view": {"show": [...]} name them
+// (each "no-" switch turns its partner off; later ones win).
+extern const std::vector<std::string> display_switch_names;
+
 // Reads a scene document. `file` names it in errors. Unknown keys, wrong types and values out
 // of range throw SceneError with the JSON pointer of the offending field.
 SceneDesc parse_scene(const nlohmann::json& document, const std::string& file);
@@ -23,5 +27,9 @@ void apply_override(nlohmann::json& document, const std::string& assignment, con
 
 // The scene with every field written out (defaults included); parse_scene reads it back.
 nlohmann::json scene_to_json(const SceneDesc& scene);
+
+// A resolved scene without what does not change the simulation (its "view"): what a resumed run
+// or a sweep case compares with the recorded scene.
+nlohmann::json simulated_part(nlohmann::json resolved_scene);
 
 }  // namespace weft

@@ -47,7 +47,17 @@ Color contact_color(ContactKind kind, ContactPartners partners) {
   return vertex_face ? Color(1.0f, 0.55f, 0.1f) : Color(0.8f, 0.3f, 1.0f);  // orange, violet
 }
 
-void add_contacts(DebugOverlay& overlay, const std::vector<ContactRecord>& contacts, double arrow_scale) {
+double contact_arrow_scale(double largest_impulse, double impulse_scale, double max_arrow_length) {
+  const double longest = impulse_scale * std::abs(largest_impulse);
+  if (!(longest > max_arrow_length) || !std::isfinite(longest)) return impulse_scale;
+  return max_arrow_length / std::abs(largest_impulse);
+}
+
+void add_contacts(DebugOverlay& overlay, const std::vector<ContactRecord>& contacts, double impulse_scale,
+                  double max_arrow_length) {
+  double largest_impulse = 0.0;
+  for (const ContactRecord& contact : contacts) largest_impulse = std::max(largest_impulse, std::abs(contact.impulse));
+  const double arrow_scale = contact_arrow_scale(largest_impulse, impulse_scale, max_arrow_length);
   for (const ContactRecord& contact : contacts) {
     const Color color = contact_color(contact.kind, contact.partners);
     overlay.points.push_back({contact.position, color, 7.0f});

@@ -47,9 +47,16 @@ struct DebugOverlay {
 // (cloth-solid, cloth-cloth, soft body).
 Color contact_color(ContactKind kind, ContactPartners partners);
 
+// Metres of contact arrow per N s of impulse: `impulse_scale`, unless the largest impulse's arrow
+// would then be longer than `max_arrow_length` m; then all shrink together so that it is exactly
+// that long. Dense contact keeps arrows in proportion to each other and short beside the scene.
+double contact_arrow_scale(double largest_impulse, double impulse_scale, double max_arrow_length);
+
 // Contact points coloured by kind, each with its impulse as an arrow along the record's normal,
-// `arrow_scale` m per N s long (no arrow where the record has no normal or no impulse).
-void add_contacts(DebugOverlay& overlay, const std::vector<ContactRecord>& contacts, double arrow_scale);
+// contact_arrow_scale(largest impulse, impulse_scale, max_arrow_length) m per N s long (no arrow
+// where the record has no normal or no impulse).
+void add_contacts(DebugOverlay& overlay, const std::vector<ContactRecord>& contacts, double impulse_scale,
+                  double max_arrow_length);
 
 // Boxes of the hierarchy's nodes at depth `depth` (0: the root), and of the leaves above it.
 std::vector<Eigen::AlignedBox3d> bvh_boxes_at_depth(const Bvh& bvh, int depth);

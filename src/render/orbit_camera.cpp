@@ -23,6 +23,13 @@ void OrbitCamera::frame(const Eigen::AlignedBox3d& box, double aspect) {
   distance_ = 1.05 * radius / std::sin(std::min(half_vertical, half_horizontal));
 }
 
+void OrbitCamera::set_angles(double yaw, double pitch) {
+  yaw_ = yaw;
+  pitch_ = std::clamp(pitch, -max_pitch, max_pitch);
+}
+
+void OrbitCamera::set_distance(double distance) { distance_ = std::clamp(distance, 1e-3, 1e5); }
+
 void OrbitCamera::orbit(double dx_pixels, double dy_pixels) {
   yaw_ -= radians_per_pixel * dx_pixels;
   pitch_ = std::clamp(pitch_ + radians_per_pixel * dy_pixels, -max_pitch, max_pitch);

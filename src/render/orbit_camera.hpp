@@ -11,6 +11,12 @@ class OrbitCamera {
   // Looks at the box's centre from the current direction, far enough to see all of it at `aspect`.
   void frame(const Eigen::AlignedBox3d& box, double aspect);
 
+  // Places the camera outright: yaw about +y (0 puts the eye on +z), pitch above the horizontal
+  // (clamped short of straight up or down), both in radians.
+  void set_angles(double yaw, double pitch);
+  void set_target(const Eigen::Vector3d& target) { target_ = target; }
+  void set_distance(double distance);
+
   // Turns around the target by mouse motion in pixels.
   void orbit(double dx_pixels, double dy_pixels);
   // Moves the target with the mouse so the point under it follows; `viewport_height` in pixels.
@@ -21,6 +27,8 @@ class OrbitCamera {
   Eigen::Vector3d eye() const;
   const Eigen::Vector3d& target() const { return target_; }
   double distance() const { return distance_; }
+  double yaw() const { return yaw_; }
+  double pitch() const { return pitch_; }
   double vertical_fov() const { return vertical_fov_; }
 
   Eigen::Matrix4f view_matrix() const;

@@ -15,12 +15,15 @@ WorldMeshes show_world(Renderer& renderer, const World& world, const ViewOptions
   for (const Cloth& cloth : world.cloths()) {
     LoopSubdivision subdivision =
         make_loop_subdivision(cloth.model.triangles, cloth.num_vertices(), meshes.subdivision_levels);
-    meshes.cloths.push_back(renderer.add_mesh(subdivision.triangles, subdivision.apply(cloth.state.x), palette.cloth));
+    // Soft bodies apart from cloth at a glance.
+    const SurfaceStyle& style = cloth.model.pressure.enabled ? palette.soft_body : palette.cloth;
+    meshes.cloths.push_back(renderer.add_mesh(subdivision.triangles, subdivision.apply(cloth.state.x), style));
     meshes.subdivisions.push_back(std::move(subdivision));
   }
   // Planes: a square ten scene sizes wide reads as an endless floor.
   const Eigen::AlignedBox3d bounds = world_bounds(world);
   const double scene_radius = bounds.isEmpty() ? 1.0 : 0.5 * bounds.diagonal().norm();
+  meshes.scene_size = 2.0 * scene_radius;
   meshes.plane_half_size = std::max(10.0, 10.0 * scene_radius);
   meshes.plane_anchor = bounds.isEmpty() ? Vec3::Zero() : Vec3(bounds.center());
   for (const Collider& collider : world.colliders()) {
@@ -94,7 +97,9 @@ void build_overlay(DebugOverlay& overlay, const World& world, const WorldMeshes&
   if (options.pins) {
     for (const Cloth& cloth : world.cloths()) add_pins(overlay, cloth, palette.pin);
   }
-  if (options.contacts) add_contacts(overlay, contacts, options.impulse_scale);
+  if (options.contacts) {
+    add_contacts(overlay, contacts, options.impulse_scale, options.max_arrow_length * meshes.scene_size);
+  }
 }
 
 Eigen::VectorXd vertex_strain(const ClothModel& model, const Positions& x) {

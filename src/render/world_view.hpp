@@ -16,6 +16,7 @@ namespace weft {
 
 struct WorldPalette {
   SurfaceStyle cloth{{0.95f, 0.52f, 0.18f}, {0.22f, 0.42f, 0.85f}, 0.12f, 24.0f};  // warm front, blue back
+  SurfaceStyle soft_body{{0.30f, 0.78f, 0.42f}, {0.16f, 0.45f, 0.26f}, 0.2f, 32.0f};  // green: cloths with pressure
   SurfaceStyle collider{{0.62f, 0.62f, 0.62f}, {0.38f, 0.38f, 0.38f}, 0.25f, 48.0f};
   SurfaceStyle ground{{0.40f, 0.40f, 0.41f}, {0.22f, 0.22f, 0.22f}, 0.05f, 16.0f, 0.5f};  // planes
   Color cloth_box{0.7f, 0.45f, 1.0f};  // violet, apart from the pink pins
@@ -33,7 +34,8 @@ struct ViewOptions {
   bool boxes = false;             // bounding-volume hierarchy boxes at box_depth
   int box_depth = 0;              // 0: one box per cloth and collider
   bool contacts = true;           // contact points and impulse arrows
-  double impulse_scale = 200.0;   // m of arrow per N s of impulse
+  double impulse_scale = 200.0;   // m of arrow per N s of impulse, unless that is too long:
+  double max_arrow_length = 0.1;  // the longest arrow, as a fraction of the scene's size
   bool pins = true;               // pinned vertices as dots
   bool ground_grid = true;        // grid lines on plane colliders
   bool colliders = true;
@@ -48,6 +50,7 @@ struct WorldMeshes {
   std::vector<MeshHandle> colliders;
   Vec3 plane_anchor = Vec3::Zero();  // planes are drawn as squares around this point's projection
   double plane_half_size = 10.0;
+  double scene_size = 1.0;           // m, the diagonal of world_bounds() when registered
   int subdivision_levels = 0;        // what the cloth meshes were built with
   // One hierarchy of boxes per cloth, built like the collision module's (swept by nothing,
   // inflated by the cloth's thickness), refitted by update_bvhs() while boxes are shown.

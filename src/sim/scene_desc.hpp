@@ -97,6 +97,19 @@ constexpr double max_fps = 10'000.0;
 // beyond it every part of the cloth is "in contact" with most others and a step never ends.
 constexpr double max_thickness_fraction = 0.1;
 
+// How the viewer opens the scene ("view"): where the camera looks from and what is displayed.
+// Plain data with no effect on the simulation; the viewer translates it (app/viewer.cpp).
+struct SceneView {
+  bool has_target = false;
+  Vec3 target = Vec3::Zero();      // m, the point the camera orbits; else the scene's centre
+  double distance = 0.0;           // m, eye to target; 0: far enough to see the whole scene
+  double yaw_degrees = 23.0;       // about +y: 0 puts the eye on +z looking along -z, 90 on +x
+  double pitch_degrees = 17.0;     // above the horizontal, in [-88, 88]
+  std::vector<std::string> show;   // display switches, as --show names them, applied in order
+  double impulse_scale = 200.0;    // m of contact arrow per N s of impulse
+  double max_arrow_length = 0.1;   // the longest contact arrow, as a fraction of the scene's size
+};
+
 struct SceneDesc {
   std::string source_file;        // where it came from, for error messages ("<inline>" if none)
   std::string name = "untitled";
@@ -113,6 +126,7 @@ struct SceneDesc {
   std::vector<ClothDesc> cloths;
   std::vector<Collider> colliders;
   CollisionSettings collision;    // "collision": {...}
+  SceneView view;                 // "view": {...}, the viewer's only
 };
 
 }  // namespace weft

@@ -39,6 +39,12 @@ void draw_debug_panel(SimulationSession& session, ViewerState& state) {
     if (ImGui::SliderFloat("impulse arrows (m per N s)", &scale, 0.1f, 1e4f, "%.1f", ImGuiSliderFlags_Logarithmic)) {
       view.impulse_scale = scale;
     }
+    float longest = static_cast<float>(view.max_arrow_length);
+    if (ImGui::SliderFloat("longest arrow (of scene size)", &longest, 0.005f, 1.0f, "%.3f",
+                           ImGuiSliderFlags_Logarithmic)) {
+      view.max_arrow_length = longest;
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("All arrows shrink together when the largest impulse's would be longer");
   }
   ImGui::Checkbox("pause on first contact", &session.pause_on_contact);
   for (size_t c = 0; c < session.world().cloths().size(); ++c) {

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include "core/error.hpp"
@@ -212,13 +213,66 @@ TEST(SceneFile, FileErrorsNameTheFile) {
 }
 
 TEST(SceneFile, ShippedScenesLoadAndBuild) {
-  for (const char* name : {"default", "drape_sphere", "two_sheets", "tumble_dryer", "twist", "fast_drop",
-                           "friction_slope", "soft_balls"}) {
-    const std::string path = std::string(WEFT_SOURCE_DIR) + "/scenes/" + name + ".json";
-    const SceneDesc scene = load_scene_file(path);
+  int scenes = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(WEFT_SOURCE_DIR) + "/scenes")) {
+    if (entry.path().extension() != ".json") continue;
+    const SceneDesc scene = load_scene_file(entry.path().string());
     const World world = build_world(scene);
-    EXPECT_GE(world.cloths().size(), 1u) << name;
+    EXPECT_GE(world.cloths().size(), 1u) << entry.path();
+    ++scenes;
   }
+  EXPECT_GE(scenes, 10);
+}
+
+TEST(SceneFile, ViewIsReadCheckedAndRoundTrips) {
+  json document = json::parse(minimal_scene);
+  document["view"] = json::parse(R"({"target": [0, 0.5, 0], "distance": 3, "yaw_degrees": -30,
+    "pitch_degrees": 40, "show": ["cutaway", "no-contacts"], "impulse_scale": 20, "max_arrow_length": 0.05})");
+  const SceneDesc scene = parse_scene(document, "scene.json");
+  EXPECT_TRUE(scene.view.has_target);
+  EXPECT_EQ(scene.view.target, Vec3(0.0, 0.5, 0.0));
+  EXPECT_DOUBLE_EQ(scene.view.distance, 3.0);
+  EXPECT_DOUBLE_EQ(scene.view.yaw_degrees, -30.0);
+  EXPECT_DOUBLE_EQ(scene.view.pitch_degrees, 40.0);
+  EXPECT_EQ(scene.view.show, (std::vector<std::string>{"cutaway", "no-contacts"}));
+  EXPECT_DOUBLE_EQ(scene.view.impulse_scale, 20.0);
+  EXPECT_DOUBLE_EQ(scene.view.max_arrow_length, 0.05);
+  const json written = scene_to_json(scene);
+  EXPECT_EQ(scene_to_json(parse_scene(written, "scene.json")), written);
+
+  // Without a view, the camera frames the whole scene: no target, no distance.
+  const SceneDesc plain = parse_scene(json::parse(minimal_scene), "scene.json");
+  EXPECT_FALSE(plain.view.has_target);
+  EXPECT_EQ(plain.view.distance, 0.0);
+  EXPECT_TRUE(plain.view.show.empty());
+  EXPECT_FALSE(parse_scene(scene_to_json(plain), "scene.json").view.has_target);
+}
+
+TEST(SceneFile, ViewErrorsNameThePath) {
+  expect_scene_error(minimal_scene, {"view.zoom=2"}, "/view/zoom", "unknown key \"zoom\"");
+  expect_scene_error(minimal_scene, {"view=[1,2]"}, "/view", "expected an object");
+  expect_scene_error(minimal_scene, {"view.target=[0,1]"}, "/view/target", "expected an array of 3 numbers");
+  expect_scene_error(minimal_scene, {"view.distance=0"}, "/view/distance", "expected a number > 0");
+  expect_scene_error(minimal_scene, {"view.pitch_degrees=90"}, "/view/pitch_degrees", "in [-88, 88]");
+  expect_scene_error(minimal_scene, {"view.yaw_degrees=\"left\""}, "/view/yaw_degrees", "expected a number");
+  expect_scene_error(minimal_scene, {"view.show=[\"cutaway\",\"aabb\"]"}, "/view/show/1",
+                     "expected one of \"boxes\"");
+  expect_scene_error(minimal_scene, {"view.show=\"cutaway\""}, "/view/show", "expected an array of strings");
+  expect_scene_error(minimal_scene, {"view.impulse_scale=-1"}, "/view/impulse_scale", "> 0");
+  expect_scene_error(minimal_scene, {"view.max_arrow_length=2"}, "/view/max_arrow_length", "in (0, 1]");
+}
+
+TEST(SceneFile, ViewIsNotPartOfTheSimulatedScene) {
+  json document = json::parse(minimal_scene);
+  const json plain = scene_to_json(parse_scene(document, "scene.json"));
+  apply_override(document, "view.show=[\"cutaway\"]", "scene.json");
+  apply_override(document, "view.distance=4", "scene.json");
+  const json viewed = scene_to_json(parse_scene(document, "scene.json"));
+  EXPECT_NE(viewed, plain);
+  EXPECT_EQ(simulated_part(viewed), simulated_part(plain));
+  // Any other change still shows.
+  apply_override(document, "fps=60", "scene.json");
+  EXPECT_NE(simulated_part(scene_to_json(parse_scene(document, "scene.json"))), simulated_part(plain));
 }
 
 const char* collision_scene = R"({

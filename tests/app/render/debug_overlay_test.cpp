@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 #include "core/mesh_generators.hpp"
@@ -66,10 +67,46 @@ TEST(DebugOverlay, ContactsColouredByKindWithImpulseArrows) {
   contacts[0].normal = Vec3::UnitY();
   contacts[1].impulse = 0.02;  // no normal recorded: a point only
   DebugOverlay overlay;
-  add_contacts(overlay, contacts, 100.0);
+  add_contacts(overlay, contacts, 100.0, 10.0);
   ASSERT_EQ(overlay.points.size(), 2u);
   ASSERT_EQ(overlay.lines.size(), 3u);  // one shaft, two barbs
   EXPECT_TRUE(overlay.lines[0].to.isApprox(Vec3(1.0, 1.0, 0.0)));
+}
+
+// Arrows keep the asked scale while the largest one fits; past that, all shrink by one factor.
+TEST(DebugOverlay, ContactArrowScaleCapsTheLargestArrow) {
+  // 0.001 N s at 200 m per N s is 0.2 m, under a 0.5 m cap: unchanged.
+  EXPECT_DOUBLE_EQ(contact_arrow_scale(0.001, 200.0, 0.5), 200.0);
+  // 0.01 N s would be 2 m: the largest arrow is exactly the cap, a half as large one half of it.
+  const double scale = contact_arrow_scale(0.01, 200.0, 0.5);
+  EXPECT_DOUBLE_EQ(scale * 0.01, 0.5);
+  EXPECT_DOUBLE_EQ(scale * 0.005, 0.25);
+  // At the cap exactly, and with no impulse at all, the scale stays.
+  EXPECT_DOUBLE_EQ(contact_arrow_scale(0.0025, 200.0, 0.5), 200.0);
+  EXPECT_DOUBLE_EQ(contact_arrow_scale(0.0, 200.0, 0.5), 200.0);
+  // The cap scales with the impulse: ten times the impulse, a tenth of the scale.
+  EXPECT_DOUBLE_EQ(contact_arrow_scale(0.1, 200.0, 0.5), 0.1 * scale);
+}
+
+// Dense, strong contact: no arrow longer than the cap, and arrows in proportion to their impulses.
+TEST(DebugOverlay, DenseContactArrowsStayWithinTheCap) {
+  std::vector<ContactRecord> contacts(100);
+  for (size_t k = 0; k < contacts.size(); ++k) {
+    contacts[k].position = Vec3(0.01 * static_cast<double>(k), 0.0, 0.0);
+    contacts[k].normal = Vec3::UnitY();
+    contacts[k].impulse = 0.001 * static_cast<double>(k + 1);  // up to 0.1 N s: 20 m at 200 m per N s
+  }
+  DebugOverlay overlay;
+  add_contacts(overlay, contacts, 200.0, 0.05);
+  ASSERT_EQ(overlay.lines.size(), 3 * contacts.size());
+  double longest = 0.0;
+  for (size_t k = 0; k < contacts.size(); ++k) {
+    const OverlayLine& shaft = overlay.lines[3 * k];
+    const double length = (shaft.to - shaft.from).norm();
+    longest = std::max(longest, length);
+    EXPECT_NEAR(length, 0.05 * contacts[k].impulse / 0.1, 1e-12) << k;
+  }
+  EXPECT_NEAR(longest, 0.05, 1e-12);
 }
 
 // The overlay built from a world shows boxes and contacts only when switched on.

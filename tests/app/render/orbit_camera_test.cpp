@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace weft {
 namespace {
 
@@ -34,6 +36,23 @@ TEST(OrbitCamera, ViewPutsTargetStraightAhead) {
   EXPECT_NEAR(target.x(), 0.0f, 1e-4f);
   EXPECT_NEAR(target.y(), 0.0f, 1e-4f);
   EXPECT_NEAR(target.z(), -camera.distance(), 1e-4f);
+}
+
+// A scene's view places the camera outright: yaw 0 puts the eye on +z, 90 degrees on +x; the
+// pitch raises it and stops short of the pole.
+TEST(OrbitCamera, SetAnglesTargetAndDistancePlaceTheEye) {
+  OrbitCamera camera;
+  camera.set_target(Eigen::Vector3d(1.0, 2.0, 3.0));
+  camera.set_distance(4.0);
+  camera.set_angles(0.0, 0.0);
+  EXPECT_TRUE(camera.eye().isApprox(Eigen::Vector3d(1.0, 2.0, 7.0)));
+  camera.set_angles(0.5 * 3.14159265358979, 0.0);
+  EXPECT_TRUE(camera.eye().isApprox(Eigen::Vector3d(5.0, 2.0, 3.0)));
+  camera.set_angles(0.0, 0.5236);  // 30 degrees up
+  EXPECT_NEAR(camera.eye().y(), 2.0 + 4.0 * std::sin(0.5236), 1e-12);
+  camera.set_angles(0.0, 2.0);
+  EXPECT_LT(camera.pitch(), 1.5708);
+  EXPECT_NEAR(camera.distance(), 4.0, 1e-12);
 }
 
 TEST(OrbitCamera, OrbitKeepsDistanceZoomChangesIt) {
