@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/headless_runner.hpp"
+#include "app/openmp_wait_policy.hpp"
 #include "app/plot.hpp"
 #include "app/sweep.hpp"
 #include "io/scene_file.hpp"
@@ -263,6 +264,7 @@ std::terminate_handler default_terminate = nullptr;
 }  // namespace
 
 int main(int argc, char** argv) {
+  weft::prefer_sleeping_openmp_waits(argv);
   default_terminate = std::set_terminate(terminate_on_out_of_memory);
   // Out of memory on the main thread ends here, whole: the output lock is released on the way.
   try {
