@@ -1,0 +1,208 @@
+// Vertex Block Descent (Chen et al. 2024) against Newton + CG on one implicit Euler step of the
+// drape's cloth, without contact: how many sweeps VBD needs on Weft's stiff membrane (issue 27
+// names this as its known weakness) and what a sweep costs. The state is the 64x64 drape after
+// `--frames` frames of the full pipeline (folded on the sphere); from it one step of h = 1/240 s
+// is solved for the cloth alone (no collider, no contact), by
+//   newton   ImplicitEulerSolver capped at k = 1, 2, ... iterations (the shipped CG path),
+//   vbd      per-vertex 3x3 Newton updates in vertex-colour order (Gauss-Seidel), each vertex's
+//            block of the inertia, membrane (PSD-projected), hinge (Gauss-Newton) and damping
+//            terms, optionally Chebyshev-accelerated (--rho), from the inertial predictor.
+// Printed: method, iteration, seconds so far, residual (m/s, newton_residual of the full
+// incremental potential's gradient). A first prototype, written for the measurement: each
+// vertex evaluates its triangles' and hinges' full element matrices and keeps one block.
+//   cmake --build build/release --target weft_vbd_membrane
+//   build/release/bench/weft_vbd_membrane [--resolution 64] [--frames 20] [--sweeps 200] [--rho 0.9]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "io/scene_builder.hpp"
+#include "io/scene_file.hpp"
+#include "physics/cloth_terms.hpp"
+#include "physics/hinge_bending.hpp"
+#include "physics/implicit_euler.hpp"
+#include "physics/membrane_stvk.hpp"
+#include "sim/world.hpp"
+
+namespace {
+
+using namespace weft;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The incremental potential's residual at x (as ImplicitEulerSolver measures it).
+double residual_at(const ClothModel& model, const Vec3& gravity, const Positions& x, const Positions& x_start,
+                   const Positions& x_hat, double h, Positions& gradient) {
+  gradient.setZero(3, x.cols());
+  evaluate_mass_quadratic(model.mass, 1.0 / (h * h), x, x_hat, &gradient, nullptr);
+  evaluate_potential(model, gravity, x, &gradient, nullptr, HessianStencils{}, false);
+  evaluate_dissipation(model, x_start, x, h, &gradient, nullptr, HessianStencils{});
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    if (model.inverse_mass[i] == 0.0) gradient.col(i).setZero();
+  }
+  return newton_residual(gradient, model.inverse_mass, h);
+}
+
+// Vertex colours such that no two vertices of one triangle or hinge share one (greedy).
+std::vector<std::vector<int>> colour_vertices(const ClothModel& model) {
+  const int n = static_cast<int>(model.rest_positions.cols());
+  std::vector<std::vector<int>> neighbours(n);
+  const auto connect = [&](const int* v, int k) {
+    for (int a = 0; a < k; ++a) {
+      for (int b = 0; b < k; ++b) {
+        if (a != b) neighbours[v[a]].push_back(v[b]);
+      }
+    }
+  };
+  for (Eigen::Index t = 0; t < model.triangles.cols(); ++t) connect(model.triangles.col(t).data(), 3);
+  for (Eigen::Index e = 0; e < model.bending.hinges.cols(); ++e) connect(model.bending.hinges.col(e).data(), 4);
+  std::vector<int> colour(n, -1);
+  int colours = 0;
+  for (int v = 0; v < n; ++v) {
+    std::vector<char> used(colours + 1, 0);
+    for (const int w : neighbours[v]) {
+      if (colour[w] >= 0) used[colour[w]] = 1;
+    }
+    int c = 0;
+    while (used[c]) ++c;
+    colour[v] = c;
+    colours = std::max(colours, c + 1);
+  }
+  std::vector<std::vector<int>> groups(colours);
+  for (int v = 0; v < n; ++v) groups[colour[v]].push_back(v);
+  return groups;
+}
+
+struct Incidence {
+  std::vector<std::vector<std::pair<int, int>>> triangles;  // per vertex: (triangle, corner)
+  std::vector<std::vector<std::pair<int, int>>> hinges;     // per vertex: (hinge, slot)
+};
+
+Incidence incidence(const ClothModel& model) {
+  const int n = static_cast<int>(model.rest_positions.cols());
+  Incidence inc{std::vector<std::vector<std::pair<int, int>>>(n), std::vector<std::vector<std::pair<int, int>>>(n)};
+  for (int t = 0; t < model.triangles.cols(); ++t) {
+    for (int k = 0; k < 3; ++k) inc.triangles[model.triangles(k, t)].push_back({t, k});
+  }
+  for (int e = 0; e < model.bending.hinges.cols(); ++e) {
+    for (int k = 0; k < 4; ++k) inc.hinges[model.bending.hinges(k, e)].push_back({e, k});
+  }
+  return inc;
+}
+
+// One Gauss-Seidel sweep of per-vertex Newton updates over the colours.
+void vbd_sweep(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
+               const Positions& x_hat, const std::vector<std::vector<int>>& colours, const Incidence& inc,
+               Positions& x) {
+  const double inertia = 1.0 / (h * h);
+  const double damping = model.mass_damping / h;
+  for (const std::vector<int>& group : colours) {
+    for (const int i : group) {
+      if (model.inverse_mass[i] == 0.0) continue;
+      const double m = model.mass[i];
+      Vec3 g = m * inertia * (x.col(i) - x_hat.col(i)) - m * gravity + m * damping * (x.col(i) - x_start.col(i));
+      Mat3 hess = (m * (inertia + damping)) * Mat3::Identity();
+      for (const auto& [t, k] : inc.triangles[i]) {
+        Vector9d tg;
+        Matrix9d th;
+        membrane_energy(x.col(model.triangles(0, t)), x.col(model.triangles(1, t)), x.col(model.triangles(2, t)),
+                        model.membrane.rest[t], model.membrane.material, &tg, &th, true);
+        g += tg.segment<3>(3 * k);
+        hess += th.block<3, 3>(3 * k, 3 * k);
+      }
+      for (const auto& [e, k] : inc.hinges[i]) {
+        const auto hv = model.bending.hinges.col(e);
+        const HingeGaussNewton gn = hinge_bending_gauss_newton(x.col(hv[0]), x.col(hv[1]), x.col(hv[2]),
+                                                               x.col(hv[3]), model.bending.rest[e],
+                                                               model.bending.stiffness);
+        g += gn.gradient.segment<3>(3 * k);
+        const Vec3 a = gn.angle_gradient.segment<3>(3 * k);
+        hess += gn.curvature * a * a.transpose();
+      }
+      const Eigen::LDLT<Mat3> solve(hess);
+      if (solve.info() == Eigen::Success) x.col(i) -= solve.solve(g);
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int resolution = 64, frames = 20, sweeps = 200;
+  double rho = 0.0;
+  for (int a = 1; a < argc; ++a) {
+    const bool value = a + 1 < argc;
+    if (std::strcmp(argv[a], "--resolution") == 0 && value) {
+      resolution = std::stoi(argv[++a]);
+    } else if (std::strcmp(argv[a], "--frames") == 0 && value) {
+      frames = std::stoi(argv[++a]);
+    } else if (std::strcmp(argv[a], "--sweeps") == 0 && value) {
+      sweeps = std::stoi(argv[++a]);
+    } else if (std::strcmp(argv[a], "--rho") == 0 && value) {
+      rho = std::stod(argv[++a]);
+    } else {
+      std::fprintf(stderr, "usage: %s [--resolution 64] [--frames 20] [--sweeps 200] [--rho 0]\n", argv[0]);
+      return 2;
+    }
+  }
+  const std::string grid = "cloths.0.grid.resolution=[" + std::to_string(resolution) + "," + std::to_string(resolution) + "]";
+  const SceneDesc scene = load_scene_file(std::string(WEFT_SOURCE_DIR) + "/scenes/drape_sphere.json", {grid});
+  World world = build_world(scene);
+  const FrameSchedule schedule = frame_schedule(scene.fps, scene.time_step);
+  for (int s = 0; s < frames * schedule.steps_per_frame; ++s) world.step();
+  const Cloth start = world.cloths()[0];
+  const ClothModel& model = start.model;
+  const Vec3 gravity = world.settings.gravity;
+  const double h = world.settings.time_step;
+  const Positions x_start = start.state.x;
+  const Positions x_hat = x_start + h * start.state.v;
+  Positions gradient;
+  std::printf("method,iteration,seconds,residual\n");
+  std::printf("start,0,0,%.3e\n", residual_at(model, gravity, x_hat, x_start, x_hat, h, gradient));
+
+  // Newton + CG capped at k iterations; each k from a fresh copy, its own time.
+  for (int k = 1; k <= 12; ++k) {
+    Cloth cloth = start;
+    ImplicitEulerSolver solver;
+    ImplicitEulerSettings settings = world.settings.implicit;
+    settings.max_newton_iterations = k;
+    settings.newton_tolerance = 1e-12;
+    solver.step(cloth, gravity, h, settings);  // warms the solver's storage
+    cloth = start;
+    const auto begin = Clock::now();
+    solver.step(cloth, gravity, h, settings);
+    const double seconds = seconds_since(begin);
+    std::printf("newton,%d,%.4f,%.3e\n", k, seconds,
+                residual_at(model, gravity, cloth.state.x, x_start, x_hat, h, gradient));
+  }
+
+  // VBD from the inertial predictor.
+  const std::vector<std::vector<int>> colours = colour_vertices(model);
+  const Incidence inc = incidence(model);
+  std::fprintf(stderr, "%zu vertex colours\n", colours.size());
+  Positions x = x_hat, previous = x_hat, before_previous = x_hat;
+  double omega = 1.0, seconds = 0.0;
+  for (int k = 1; k <= sweeps; ++k) {
+    const auto begin = Clock::now();
+    vbd_sweep(model, gravity, h, x_start, x_hat, colours, inc, x);
+    if (rho > 0.0) {
+      // Chebyshev semi-iteration (Wang 2015): x_k = omega (x_k - x_{k-2}) + x_{k-2}.
+      omega = k == 1 ? 1.0 : k == 2 ? 2.0 / (2.0 - rho * rho) : 4.0 / (4.0 - rho * rho * omega);
+      if (k > 1) x = omega * (x - before_previous) + before_previous;
+      before_previous = previous;
+      previous = x;
+    }
+    seconds += seconds_since(begin);
+    if (k <= 10 || k % 10 == 0) {
+      std::printf("vbd,%d,%.4f,%.3e\n", k, seconds, residual_at(model, gravity, x, x_start, x_hat, h, gradient));
+    }
+  }
+  return 0;
+}
