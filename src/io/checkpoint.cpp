@@ -236,7 +236,10 @@ Checkpoint read_checkpoint(const std::string& path) {
   if (!in) throw IoError(path + ": cannot open checkpoint: " + std::strerror(errno));
   std::stringstream buffer;
   buffer << in.rdbuf();
-  const std::string file = buffer.str();
+  return parse_checkpoint(buffer.str(), path);
+}
+
+Checkpoint parse_checkpoint(const std::string& file, const std::string& path) {
   if (file.size() < header_bytes + 8 || std::memcmp(file.data(), magic, sizeof magic) != 0) {
     throw IoError(path + ": not a Weft checkpoint: expected \"WEFTCKPT\" at the start");
   }

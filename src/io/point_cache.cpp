@@ -181,6 +181,10 @@ void PointCacheWriter::append(const Positions& positions) {
 PointCache read_point_cache(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path + ": cannot open point cache: " + errno_text(errno));
+  return read_point_cache(in, path);
+}
+
+PointCache read_point_cache(std::istream& in, const std::string& path) {
   const Header header = read_header(in, path);
   PointCache cache;
   cache.num_points = header.num_points;

@@ -603,19 +603,24 @@ SceneDesc load_scene_file(const std::string& path, const std::vector<std::string
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw SceneError(path, "", "cannot read the scene file");
-  json document = json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
+  return parse_scene_text(text.str(), path, overrides);
+}
+
+SceneDesc parse_scene_text(const std::string& text, const std::string& file,
+                           const std::vector<std::string>& overrides) {
+  json document = json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (document.is_discarded()) {
     // Parse again with exceptions to get nlohmann's message, which has the line and column.
     try {
-      document = json::parse(text.str());
+      document = json::parse(text);
     } catch (const json::parse_error& error) {
       std::string message = error.what();
       const size_t detail = message.find("parse error");
-      throw SceneError(path, "", "invalid JSON: " + (detail == std::string::npos ? message : message.substr(detail)));
+      throw SceneError(file, "", "invalid JSON: " + (detail == std::string::npos ? message : message.substr(detail)));
     }
   }
-  for (const std::string& assignment : overrides) apply_override(document, assignment, path);
-  return parse_scene(document, path);
+  for (const std::string& assignment : overrides) apply_override(document, assignment, file);
+  return parse_scene(document, file);
 }
 
 json scene_to_json(const SceneDesc& scene) {

@@ -147,7 +147,11 @@ SweepDesc load_sweep_file(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw SceneError(path, "", "cannot read the sweep file");
-  const ordered_json document = ordered_json::parse(text.str(), nullptr, false);
+  return parse_sweep(text.str(), path);
+}
+
+SweepDesc parse_sweep(const std::string& text, const std::string& path) {
+  const ordered_json document = ordered_json::parse(text, nullptr, false);
   if (document.is_discarded()) throw SceneError(path, "", "invalid JSON");
   if (!document.is_object()) throw SceneError(path, "", "expected an object");
   check_keys(document, sweep_keys, "", path);

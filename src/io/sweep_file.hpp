@@ -49,6 +49,10 @@ struct SweepCase {
 // Reads a sweep file; throws SceneError naming the file, the JSON path and what was expected.
 SweepDesc load_sweep_file(const std::string& path);
 
+// The same from a sweep file's text; `path` names it in errors and is the folder the scene
+// resolves against (load_sweep_file reads the file and calls this).
+SweepDesc parse_sweep(const std::string& text, const std::string& path);
+
 // Every combination of the grid's values (the last key varies fastest), named by index and values.
 std::vector<SweepCase> expand_sweep(const SweepDesc& sweep);
 
