@@ -563,7 +563,15 @@ void apply_override(json& document, const std::string& assignment, const std::st
   const std::string text = assignment.substr(equals + 1);
   // The value is JSON when it parses as JSON, otherwise a plain string (--set solver.integrator=midpoint).
   json value = json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (value.is_discarded()) value = text;
+  if (value.is_discarded()) {
+    // A bare string is written back into run.json and checkpoints, which JSON allows only as UTF-8.
+    value = text;
+    try {
+      (void)value.dump();
+    } catch (const json::type_error&) {
+      throw SceneError(file, "", "--set \"" + assignment + "\": the value is neither JSON nor UTF-8 text");
+    }
+  }
 
   json* node = &document;
   std::string path;
@@ -572,7 +580,8 @@ void apply_override(json& document, const std::string& assignment, const std::st
     if (token.empty()) throw SceneError(file, path, "--set \"" + assignment + "\": empty path component");
     const bool last = k + 1 == tokens.size();
     if (node->is_array()) {
-      const bool numeric = token.find_first_not_of("0123456789") == std::string::npos;
+      // Nine digits at most: no array is that long, and std::stoul would throw past its range.
+      const bool numeric = token.find_first_not_of("0123456789") == std::string::npos && token.size() <= 9;
       const size_t index = numeric ? std::stoul(token) : 0;
       if (!numeric || index >= node->size()) {
         throw SceneError(file, path + "/" + token,

@@ -168,6 +168,19 @@ TEST(SceneFile, BadOverridesAreReported) {
   EXPECT_THROW(apply_override(document, "no_equals_sign", "scene.json"), SceneError);
 }
 
+// Found by tests/fuzz/fuzz_set: an index past std::stoul's range threw std::out_of_range, and a
+// bare value that is not UTF-8 threw nlohmann's type_error when it was written into a message.
+TEST(SceneFile, OverridesWithHugeIndicesOrNonUtf8ValuesAreSceneErrors) {
+  expect_scene_error(minimal_scene, {"cloths.99999999999999999999.name=x"}, "/cloths/99999999999999999999",
+                     "expected an index below 1");
+  expect_scene_error(minimal_scene, {"solver.xpbd.iterations=\xb4"}, "", "neither JSON nor UTF-8 text");
+  expect_scene_error(minimal_scene, {"name=caf\xc3"}, "", "neither JSON nor UTF-8 text");
+  // Valid UTF-8 stays a bare string.
+  json document = json::parse(minimal_scene);
+  apply_override(document, "name=caf\xc3\xa9", "scene.json");
+  EXPECT_EQ(parse_scene(document, "scene.json").name, "caf\xc3\xa9");
+}
+
 TEST(SceneFile, OverridesAcceptDotsPointersJsonAndBareStrings) {
   json document = json::parse(minimal_scene);
   apply_override(document, "solver.substeps=4", "scene.json");
