@@ -622,10 +622,16 @@ SceneDesc parse_scene_text(const std::string& text, const std::string& file,
     // Parse again with exceptions to get nlohmann's message, which has the line and column.
     try {
       document = json::parse(text);
-    } catch (const json::parse_error& error) {
+    } catch (const json::exception& error) {
+      // A parse_error, or an out_of_range for a number past a double's range (1e400).
       std::string message = error.what();
-      const size_t detail = message.find("parse error");
-      throw SceneError(file, "", "invalid JSON: " + (detail == std::string::npos ? message : message.substr(detail)));
+      const size_t detail = message.find("parse error"), id_end = message.find("] ");
+      if (detail != std::string::npos) {
+        message = message.substr(detail);
+      } else if (id_end != std::string::npos) {
+        message = message.substr(id_end + 2);  // without "[json.exception.out_of_range.406] "
+      }
+      throw SceneError(file, "", "invalid JSON: " + message);
     }
   }
   for (const std::string& assignment : overrides) apply_override(document, assignment, file);

@@ -194,6 +194,23 @@ TEST(SceneFile, OverridesAcceptDotsPointersJsonAndBareStrings) {
   EXPECT_EQ(scene.name, "sweep_case_1");
 }
 
+// Found by tests/fuzz/fuzz_scene: a number past a double's range made nlohmann's parser throw
+// out_of_range, which escaped load_scene_file (weft aborted, exit 134).
+TEST(SceneFile, NumbersPastADoublesRangeAreInvalidJson) {
+  testing::TempDir dir;
+  const std::string path = dir.file("huge.json");
+  std::ofstream(path) << R"({"name": "x", "fps": 1e400})";
+  try {
+    load_scene_file(path);
+    FAIL() << "expected a SceneError";
+  } catch (const SceneError& error) {
+    EXPECT_EQ(error.json_path(), "");
+    EXPECT_NE(std::string(error.what()).find("huge.json: /: invalid JSON: number overflow parsing '1e400'"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(SceneFile, ResolvedSceneRoundTrips) {
   json document = json::parse(minimal_scene);
   apply_override(document, "cloths.0.pins.corners=[\"top_left\"]", "scene.json");
