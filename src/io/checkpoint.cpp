@@ -93,6 +93,7 @@ class PayloadReader {
   }
   void take(void* out, size_t size, const char* field) {
     if (size > bytes_.size() - offset_) fail(field);
+    if (size == 0) return;  // an empty matrix's data() is null, which memcpy must not be given
     std::memcpy(out, bytes_.data() + offset_, size);
     offset_ += size;
   }
