@@ -13,6 +13,11 @@ namespace weft {
 // many a machine spends its time switching between them.
 constexpr int max_sweep_jobs = 1024;
 
+// Most cases in one sweep (the product of the grid's value counts). More than a cluster's job
+// array runs in a day, and a grid of 40 keys with two values each (2^40 cases) would exhaust the
+// memory before its case names were written.
+constexpr long long max_sweep_cases = 100000;
+
 // Sweeps checkpoint every this many frames unless the sweep file says otherwise ("checkpoint_every",
 // 0 for none), so a case stopped by a time limit, a preemption or a lost node resumes. A stop
 // (SIGTERM) also writes one at the frame it ends on whenever this is not 0.
