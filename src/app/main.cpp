@@ -14,6 +14,8 @@
 #include "app/headless_runner.hpp"
 #include "app/plot.hpp"
 #include "app/sweep.hpp"
+#include "core/error.hpp"
+#include "io/scene_file.hpp"
 #include "io/sweep_file.hpp"
 #include "sim/scene_desc.hpp"
 #include "sim/world.hpp"
@@ -199,6 +201,13 @@ int run(int argc, char** argv) {
   options.test_contacts = test_contacts;
   return weft::run_viewer(options);
 #else
+  // As in a viewer build, a bad scene is reported (exit 2) before anything else.
+  try {
+    weft::load_scene_file(headless_options.scene_path, headless_options.overrides);
+  } catch (const weft::SceneError& error) {
+    std::fprintf(stderr, "weft: %s\n", error.what());
+    return 2;
+  }
   std::fprintf(stderr,
                "weft: this build has no viewer (built with WEFT_VIEWER=OFF); run headless instead:\n"
                "  weft --headless %s --out DIR\n",
