@@ -1,7 +1,8 @@
 # Tests of weft_tests left out of the sanitizer suite (scripts/test runs `ctest --preset asan
 # --label-exclude not_under_asan`; docs/hardening.md). Each takes minutes under ASan and UBSan at
 # -O1, where the whole rest of the suite takes about ten; shorter tests run the same code there,
-# and the release suite runs these. ctest includes this file after the discovered tests.
+# and the release suite runs these. ctest includes this file after the discovered tests;
+# slurm_sweep is labelled in tests/CMakeLists.txt.
 set_tests_properties(
   # 7 min: kills runs at many points; the four other CheckpointResume tests resume under ASan.
   CheckpointResume.KilledRunResumesBitIdentically
