@@ -6,8 +6,8 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "io/checkpoint.hpp"
 #include "fuzz_support.hpp"
+#include "io/checkpoint.hpp"
 
 namespace {
 

@@ -5,14 +5,15 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "io/obj_io.hpp"
 #include "fuzz_support.hpp"
+#include "io/obj_io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   weft::fuzz::expect_documented_errors([&] {
     const weft::TriangleMesh mesh = weft::parse_obj(text, "fuzz.obj");
-    if (!mesh.positions.allFinite()) weft::fuzz::finding("accepted a mesh with a coordinate that is not finite");
+    if (!mesh.positions.allFinite())
+      weft::fuzz::finding("accepted a mesh with a coordinate that is not finite");
     for (int t = 0; t < mesh.num_triangles(); ++t) {
       for (int k = 0; k < 3; ++k) {
         const int v = mesh.triangles(k, t);

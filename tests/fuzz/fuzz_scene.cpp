@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "io/scene_file.hpp"
 #include "fuzz_support.hpp"
+#include "io/scene_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string input(reinterpret_cast<const char*>(data), size);
@@ -25,7 +25,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     try {
       weft::parse_scene(weft::scene_to_json(scene), "resolved.json");
     } catch (const weft::SceneError& error) {
-      weft::fuzz::finding(std::string("a parsed scene does not read back from scene_to_json: ") + error.what());
+      weft::fuzz::finding(std::string("a parsed scene does not read back from scene_to_json: ") +
+                          error.what());
     }
   });
   return 0;

@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
-#include "io/scene_file.hpp"
 #include "fuzz_support.hpp"
+#include "io/scene_file.hpp"
 
 namespace {
 

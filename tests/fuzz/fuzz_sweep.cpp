@@ -4,8 +4,8 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "io/sweep_file.hpp"
 #include "fuzz_support.hpp"
+#include "io/sweep_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

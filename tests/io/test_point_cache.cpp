@@ -159,12 +159,18 @@ TEST(PointCache, CountsBeyondTheFileAreRefusedBeforeAnythingIsAllocated) {
     return dir.file(name);
   };
   const std::string many = header_only("many.pc2", 1 << 30, 2147483647);
-  EXPECT_NE(error_of([&] { read_point_cache(many); }).find("many.pc2: PC2 sample count: the header says 2147483647 samples, the file holds 0"),
+  EXPECT_NE(error_of([&] {
+              read_point_cache(many);
+            }).find("many.pc2: PC2 sample count: the header says 2147483647 samples, the file holds 0"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { point_cache_samples(many); }).find("the header says 2147483647 samples, the file holds 0"),
+  EXPECT_NE(error_of([&] {
+              point_cache_samples(many);
+            }).find("the header says 2147483647 samples, the file holds 0"),
             std::string::npos);
   const std::string empty = header_only("empty.pc2", 0, 2147483647);
-  EXPECT_NE(error_of([&] { read_point_cache(empty); }).find("empty.pc2: PC2 point count: the header says 2147483647 samples of 0 points"),
+  EXPECT_NE(error_of([&] {
+              read_point_cache(empty);
+            }).find("empty.pc2: PC2 point count: the header says 2147483647 samples of 0 points"),
             std::string::npos);
 }
 
