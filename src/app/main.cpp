@@ -15,6 +15,7 @@
 #include "app/openmp_wait_policy.hpp"
 #include "app/plot.hpp"
 #include "app/sweep.hpp"
+#include "core/error.hpp"
 #include "io/scene_file.hpp"
 #include "io/sweep_file.hpp"
 #include "sim/scene_desc.hpp"
@@ -229,6 +230,13 @@ int run(int argc, char** argv) {
   parse_window_size(window_size_text, options.width, options.height);
   return weft::run_viewer(options);
 #else
+  // As in a viewer build, a bad scene is reported (exit 2) before anything else.
+  try {
+    weft::load_scene_file(headless_options.scene_path, headless_options.overrides);
+  } catch (const weft::SceneError& error) {
+    std::fprintf(stderr, "weft: %s\n", error.what());
+    return 2;
+  }
   std::fprintf(stderr,
                "weft: this build has no viewer (built with WEFT_VIEWER=OFF); run headless instead:\n"
                "  weft --headless %s --out DIR\n",

@@ -93,6 +93,7 @@ class PayloadReader {
   }
   void take(void* out, size_t size, const char* field) {
     if (size > bytes_.size() - offset_) fail(field);
+    if (size == 0) return;  // an empty matrix's data() is null, which memcpy must not be given
     std::memcpy(out, bytes_.data() + offset_, size);
     offset_ += size;
   }
@@ -236,7 +237,10 @@ Checkpoint read_checkpoint(const std::string& path) {
   if (!in) throw IoError(path + ": cannot open checkpoint: " + std::strerror(errno));
   std::stringstream buffer;
   buffer << in.rdbuf();
-  const std::string file = buffer.str();
+  return parse_checkpoint(buffer.str(), path);
+}
+
+Checkpoint parse_checkpoint(const std::string& file, const std::string& path) {
   if (file.size() < header_bytes + 8 || std::memcmp(file.data(), magic, sizeof magic) != 0) {
     throw IoError(path + ": not a Weft checkpoint: expected \"WEFTCKPT\" at the start");
   }

@@ -75,4 +75,8 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint);
 // what is wrong with it.
 Checkpoint read_checkpoint(const std::string& path);
 
+// The same from a checkpoint file's bytes; `path` names it in errors (read_checkpoint reads the
+// file and calls this).
+Checkpoint parse_checkpoint(const std::string& file, const std::string& path);
+
 }  // namespace weft

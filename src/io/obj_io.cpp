@@ -145,8 +145,9 @@ void append_index(std::string& out, int value) {
 
 }  // namespace
 
-TriangleMesh read_obj(const std::string& path) {
-  const std::string text = read_text(path);
+TriangleMesh read_obj(const std::string& path) { return parse_obj(read_text(path), path); }
+
+TriangleMesh parse_obj(const std::string& text, const std::string& path) {
   const ObjCoordinates coordinates = read_coordinates(text, path);
 
   // tinyobjloader parses the faces and triangulates polygons; without a material reader it

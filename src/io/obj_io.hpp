@@ -13,6 +13,10 @@ namespace weft {
 // what was wrong (missing file, parse error, no triangles, index out of range, NaN coordinate).
 TriangleMesh read_obj(const std::string& path);
 
+// The same from an OBJ file's text; `file` names it in errors (read_obj reads the file and
+// calls this).
+TriangleMesh parse_obj(const std::string& text, const std::string& file);
+
 // One named object of an OBJ file.
 struct ObjObject {
   std::string name;

@@ -72,6 +72,22 @@ Header read_header(std::istream& in, const std::string& path) {
   return header;
 }
 
+// Throws unless `file_bytes` (the whole file's size) holds the samples the header counts. By
+// division: 12 * points * samples of a corrupt header overflows, and its samples must not be
+// allocated before they are known to be there.
+void check_samples_present(const Header& header, long long file_bytes, const std::string& path) {
+  if (header.num_samples == 0) return;
+  if (header.num_points == 0) {
+    throw IoError(path + ": PC2 point count: the header says " + std::to_string(header.num_samples) +
+                  " samples of 0 points; expected at least one point");
+  }
+  const long long held = (file_bytes - header_bytes) / (12LL * header.num_points);
+  if (held < header.num_samples) {
+    throw IoError(path + ": PC2 sample count: the header says " + std::to_string(header.num_samples) +
+                  " samples, the file holds " + std::to_string(held));
+  }
+}
+
 }  // namespace
 
 long long point_cache_size(int num_points, int samples) { return header_bytes + 12LL * num_points * samples; }
@@ -181,7 +197,16 @@ void PointCacheWriter::append(const Positions& positions) {
 PointCache read_point_cache(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path + ": cannot open point cache: " + errno_text(errno));
+  return read_point_cache(in, path);
+}
+
+PointCache read_point_cache(std::istream& in, const std::string& path) {
+  const std::istream::pos_type start = in.tellg();
+  in.seekg(0, std::ios::end);
+  const long long file_bytes = in.tellg() - start;
+  in.seekg(start);
   const Header header = read_header(in, path);
+  check_samples_present(header, file_bytes, path);
   PointCache cache;
   cache.num_points = header.num_points;
   cache.start_frame = header.start_frame;
@@ -204,10 +229,7 @@ int point_cache_samples(const std::string& path) {
   const long long size = in.tellg();
   in.seekg(0);
   const Header header = read_header(in, path);
-  if (size < point_cache_size(header.num_points, header.num_samples)) {
-    throw IoError(path + ": PC2 sample count: the header says " + std::to_string(header.num_samples) +
-                  " samples, the file is shorter");
-  }
+  check_samples_present(header, size, path);
   return header.num_samples;
 }
 

@@ -6,6 +6,7 @@
 //   float32 start frame  float32 sample rate (frames between samples)  int32 sample count
 // The writer appends a sample, then updates the count in the header, so a run killed at any
 // moment leaves a valid cache of the frames completed (at worst with unused bytes at the end).
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,10 @@ struct PointCache {
 // Reads a whole cache (the samples its header counts). Throws IoError naming the file and the
 // field that is wrong (magic, version, counts, a file shorter than its header says).
 PointCache read_point_cache(const std::string& path);
+
+// The same from a stream holding a cache's bytes; `path` names it in errors (read_point_cache
+// opens the file and calls this).
+PointCache read_point_cache(std::istream& in, const std::string& path);
 
 // The samples a cache's header counts, without reading them; throws IoError like
 // read_point_cache, also when the file is shorter than those samples.

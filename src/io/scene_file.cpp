@@ -581,7 +581,15 @@ void apply_override(json& document, const std::string& assignment, const std::st
   const std::string text = assignment.substr(equals + 1);
   // The value is JSON when it parses as JSON, otherwise a plain string (--set solver.integrator=midpoint).
   json value = json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (value.is_discarded()) value = text;
+  if (value.is_discarded()) {
+    // A bare string is written back into run.json and checkpoints, which JSON allows only as UTF-8.
+    value = text;
+    try {
+      (void)value.dump();
+    } catch (const json::type_error&) {
+      throw SceneError(file, "", "--set \"" + assignment + "\": the value is neither JSON nor UTF-8 text");
+    }
+  }
 
   json* node = &document;
   std::string path;
@@ -590,7 +598,8 @@ void apply_override(json& document, const std::string& assignment, const std::st
     if (token.empty()) throw SceneError(file, path, "--set \"" + assignment + "\": empty path component");
     const bool last = k + 1 == tokens.size();
     if (node->is_array()) {
-      const bool numeric = token.find_first_not_of("0123456789") == std::string::npos;
+      // Nine digits at most: no array is that long, and std::stoul would throw past its range.
+      const bool numeric = token.find_first_not_of("0123456789") == std::string::npos && token.size() <= 9;
       const size_t index = numeric ? std::stoul(token) : 0;
       if (!numeric || index >= node->size()) {
         throw SceneError(file, path + "/" + token,
@@ -621,19 +630,30 @@ SceneDesc load_scene_file(const std::string& path, const std::vector<std::string
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw SceneError(path, "", "cannot read the scene file");
-  json document = json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
+  return parse_scene_text(text.str(), path, overrides);
+}
+
+SceneDesc parse_scene_text(const std::string& text, const std::string& file,
+                           const std::vector<std::string>& overrides) {
+  json document = json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (document.is_discarded()) {
     // Parse again with exceptions to get nlohmann's message, which has the line and column.
     try {
-      document = json::parse(text.str());
-    } catch (const json::parse_error& error) {
+      document = json::parse(text);
+    } catch (const json::exception& error) {
+      // A parse_error, or an out_of_range for a number past a double's range (1e400).
       std::string message = error.what();
-      const size_t detail = message.find("parse error");
-      throw SceneError(path, "", "invalid JSON: " + (detail == std::string::npos ? message : message.substr(detail)));
+      const size_t detail = message.find("parse error"), id_end = message.find("] ");
+      if (detail != std::string::npos) {
+        message = message.substr(detail);
+      } else if (id_end != std::string::npos) {
+        message = message.substr(id_end + 2);  // without "[json.exception.out_of_range.406] "
+      }
+      throw SceneError(file, "", "invalid JSON: " + message);
     }
   }
-  for (const std::string& assignment : overrides) apply_override(document, assignment, path);
-  return parse_scene(document, path);
+  for (const std::string& assignment : overrides) apply_override(document, assignment, file);
+  return parse_scene(document, file);
 }
 
 json scene_to_json(const SceneDesc& scene) {

@@ -18,6 +18,11 @@ extern const std::vector<std::string> display_switch_names;
 // of range throw SceneError with the JSON pointer of the offending field.
 SceneDesc parse_scene(const nlohmann::json& document, const std::string& file);
 
+// Parses a scene file's text (JSON), applies the overrides, then parses the scene; `file` names it
+// in errors. load_scene_file reads the file and calls this. Throws SceneError.
+SceneDesc parse_scene_text(const std::string& text, const std::string& file,
+                           const std::vector<std::string>& overrides = {});
+
 // Reads the file, applies overrides of the form "path=value" (path: dots or a JSON pointer,
 // value: JSON, or a bare string), then parses. Throws SceneError.
 SceneDesc load_scene_file(const std::string& path, const std::vector<std::string>& overrides = {});

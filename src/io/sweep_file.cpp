@@ -147,7 +147,11 @@ SweepDesc load_sweep_file(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw SceneError(path, "", "cannot read the sweep file");
-  const ordered_json document = ordered_json::parse(text.str(), nullptr, false);
+  return parse_sweep(text.str(), path);
+}
+
+SweepDesc parse_sweep(const std::string& text, const std::string& path) {
+  const ordered_json document = ordered_json::parse(text, nullptr, false);
   if (document.is_discarded()) throw SceneError(path, "", "invalid JSON");
   if (!document.is_object()) throw SceneError(path, "", "expected an object");
   check_keys(document, sweep_keys, "", path);
@@ -185,11 +189,20 @@ SweepDesc load_sweep_file(const std::string& path) {
   if (!grid.is_object() || grid.empty()) {
     throw SceneError(path, "/grid", "expected a non-empty object of path: [values], got " + grid.dump());
   }
+  long long cases = 1;
   for (const auto& item : grid.items()) {
     const ordered_json& values = item.value();
     if (!values.is_array() || values.empty()) {
       throw SceneError(path, "/grid/" + item.key(),
                        "expected a non-empty array of values, got " + values.dump());
+    }
+    // Checked key by key, so that the product cannot overflow either.
+    cases *= static_cast<long long>(values.size());
+    if (cases > max_sweep_cases) {
+      throw SceneError(path, "/grid/" + item.key(),
+                       "the grid has more than " + std::to_string(max_sweep_cases) +
+                           " combinations up to this key; expected at most that many cases in one sweep "
+                           "(split it into several sweep files)");
     }
     std::vector<nlohmann::json> list;
     for (const ordered_json& value : values) list.push_back(nlohmann::json::parse(value.dump()));

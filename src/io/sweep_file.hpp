@@ -13,6 +13,11 @@ namespace weft {
 // many a machine spends its time switching between them.
 constexpr int max_sweep_jobs = 1024;
 
+// Most cases in one sweep (the product of the grid's value counts). More than a cluster's job
+// array runs in a day, and a grid of 40 keys with two values each (2^40 cases) would exhaust the
+// memory before its case names were written.
+constexpr long long max_sweep_cases = 100000;
+
 // Sweeps checkpoint every this many frames unless the sweep file says otherwise ("checkpoint_every",
 // 0 for none), so a case stopped by a time limit, a preemption or a lost node resumes. A stop
 // (SIGTERM) also writes one at the frame it ends on whenever this is not 0.
@@ -48,6 +53,10 @@ struct SweepCase {
 
 // Reads a sweep file; throws SceneError naming the file, the JSON path and what was expected.
 SweepDesc load_sweep_file(const std::string& path);
+
+// The same from a sweep file's text; `path` names it in errors and is the folder the scene
+// resolves against (load_sweep_file reads the file and calls this).
+SweepDesc parse_sweep(const std::string& text, const std::string& path);
 
 // Every combination of the grid's values (the last key varies fastest), named by index and values.
 std::vector<SweepCase> expand_sweep(const SweepDesc& sweep);

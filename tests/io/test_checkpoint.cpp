@@ -173,6 +173,30 @@ TEST(Checkpoint, KeepsRestPositionsAndColliders) {
   EXPECT_EQ(fresh.colliders()[0].center, Vec3(0.1, 0.2, 0.3));
 }
 
+// Found by tests/fuzz/fuzz_checkpoint under UBSan: reading a matrix of no columns (the membrane
+// rest of a cloth without a membrane, in every spring-cloth checkpoint) passed memcpy the null
+// data() of the empty matrix. Run under the asan preset, this reads such a checkpoint back.
+TEST(Checkpoint, AClothWithoutMembraneOrVerticesReadsBack) {
+  TempDir dir("weft_checkpoint_empty");
+  Checkpoint checkpoint;
+  checkpoint.scene_json = "{}";
+  checkpoint.frame = 2;
+  ClothCheckpoint cloth;
+  cloth.name = "empty";
+  cloth.x.resize(3, 0);
+  cloth.v.resize(3, 0);
+  cloth.rest_positions.resize(3, 0);
+  cloth.membrane_rest.resize(5, 0);
+  checkpoint.cloths.push_back(cloth);
+  write_checkpoint(dir.file("c.bin"), checkpoint);
+  const Checkpoint read = read_checkpoint(dir.file("c.bin"));
+  ASSERT_EQ(read.cloths.size(), 1u);
+  EXPECT_EQ(read.cloths[0].name, "empty");
+  EXPECT_EQ(read.cloths[0].x.cols(), 0);
+  EXPECT_EQ(read.cloths[0].membrane_rest.rows(), 5);
+  EXPECT_EQ(read.cloths[0].membrane_rest.cols(), 0);
+}
+
 TEST(Checkpoint, CorruptOrForeignFilesAreRefused) {
   TempDir dir("weft_checkpoint_bad");
   const std::string path = dir.file("checkpoint.bin");

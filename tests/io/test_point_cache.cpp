@@ -2,6 +2,7 @@
 // killed mid-append leaves a valid cache), resuming cuts the cache back, bad files are named.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 
@@ -136,6 +137,40 @@ TEST(PointCache, BadFilesAreNamedWithWhatIsWrong) {
   EXPECT_NE(error_of([&] {
               PointCacheWriter::create(dir.file("no/such/folder/x.pc2"), 3);
             }).find("x.pc2: cannot create"),
+            std::string::npos);
+}
+
+// Found by tests/fuzz/fuzz_point_cache: a 39-byte file whose header counted 2^31 - 1 samples
+// made the reader allocate them (out of memory) before it found the file short. The counts are
+// now checked against the file's size first, by division, as 12 * points * samples overflows.
+TEST(PointCache, CountsBeyondTheFileAreRefusedBeforeAnythingIsAllocated) {
+  TempDir dir("weft_pc2_counts");
+  const auto header_only = [&](const std::string& name, int32_t points, int32_t samples) {
+    std::string bytes("POINTCACHE2\0", 12);
+    const int32_t version = 1;
+    const float start = 0.0f, rate = 1.0f;
+    bytes.append(reinterpret_cast<const char*>(&version), 4);
+    bytes.append(reinterpret_cast<const char*>(&points), 4);
+    bytes.append(reinterpret_cast<const char*>(&start), 4);
+    bytes.append(reinterpret_cast<const char*>(&rate), 4);
+    bytes.append(reinterpret_cast<const char*>(&samples), 4);
+    bytes += std::string(7, '\x2d');
+    std::ofstream(dir.file(name), std::ios::binary) << bytes;
+    return dir.file(name);
+  };
+  const std::string many = header_only("many.pc2", 1 << 30, 2147483647);
+  EXPECT_NE(error_of([&] {
+              read_point_cache(many);
+            }).find("many.pc2: PC2 sample count: the header says 2147483647 samples, the file holds 0"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              point_cache_samples(many);
+            }).find("the header says 2147483647 samples, the file holds 0"),
+            std::string::npos);
+  const std::string empty = header_only("empty.pc2", 0, 2147483647);
+  EXPECT_NE(error_of([&] {
+              read_point_cache(empty);
+            }).find("empty.pc2: PC2 point count: the header says 2147483647 samples of 0 points"),
             std::string::npos);
 }
 

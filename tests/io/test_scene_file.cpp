@@ -169,6 +169,19 @@ TEST(SceneFile, BadOverridesAreReported) {
   EXPECT_THROW(apply_override(document, "no_equals_sign", "scene.json"), SceneError);
 }
 
+// Found by tests/fuzz/fuzz_set: an index past std::stoul's range threw std::out_of_range, and a
+// bare value that is not UTF-8 threw nlohmann's type_error when it was written into a message.
+TEST(SceneFile, OverridesWithHugeIndicesOrNonUtf8ValuesAreSceneErrors) {
+  expect_scene_error(minimal_scene, {"cloths.99999999999999999999.name=x"}, "/cloths/99999999999999999999",
+                     "expected an index below 1");
+  expect_scene_error(minimal_scene, {"solver.xpbd.iterations=\xb4"}, "", "neither JSON nor UTF-8 text");
+  expect_scene_error(minimal_scene, {"name=caf\xc3"}, "", "neither JSON nor UTF-8 text");
+  // Valid UTF-8 stays a bare string.
+  json document = json::parse(minimal_scene);
+  apply_override(document, "name=caf\xc3\xa9", "scene.json");
+  EXPECT_EQ(parse_scene(document, "scene.json").name, "caf\xc3\xa9");
+}
+
 TEST(SceneFile, OverridesAcceptDotsPointersJsonAndBareStrings) {
   json document = json::parse(minimal_scene);
   apply_override(document, "solver.substeps=4", "scene.json");
@@ -180,6 +193,23 @@ TEST(SceneFile, OverridesAcceptDotsPointersJsonAndBareStrings) {
   EXPECT_EQ(scene.cloths[0].grid_nx, 8);
   EXPECT_EQ(scene.cloths[0].grid_ny, 6);
   EXPECT_EQ(scene.name, "sweep_case_1");
+}
+
+// Found by tests/fuzz/fuzz_scene: a number past a double's range made nlohmann's parser throw
+// out_of_range, which escaped load_scene_file (weft aborted, exit 134).
+TEST(SceneFile, NumbersPastADoublesRangeAreInvalidJson) {
+  testing::TempDir dir;
+  const std::string path = dir.file("huge.json");
+  std::ofstream(path) << R"({"name": "x", "fps": 1e400})";
+  try {
+    load_scene_file(path);
+    FAIL() << "expected a SceneError";
+  } catch (const SceneError& error) {
+    EXPECT_EQ(error.json_path(), "");
+    EXPECT_NE(std::string(error.what()).find("huge.json: /: invalid JSON: number overflow parsing '1e400'"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 TEST(SceneFile, ResolvedSceneRoundTrips) {

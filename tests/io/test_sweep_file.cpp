@@ -65,6 +65,30 @@ TEST(SweepFile, NamesUseLongerPathTailsWhenShortOnesClash) {
   EXPECT_EQ(load_sweep_file(path).scene, "/abs/scene.json");
 }
 
+// A grid of 40 keys with two values each is 2^40 cases: expand_sweep ran out of memory writing
+// their names. The sweep file is refused at the key where the product passes max_sweep_cases.
+TEST(SweepFile, GridsWithMoreCasesThanTheBoundAreRefusedAtTheKeyThatPassesIt) {
+  TempDir dir("weft_sweep_huge");
+  std::string grid;
+  for (int k = 0; k < 40; ++k)
+    grid += (k ? ", " : "") + std::string("\"k") + std::to_string(k) + "\": [1, 2]";
+  const std::string message =
+      error_of(write(dir, "huge.json", R"({"scene": "s.json", "grid": {)" + grid + "}}"));
+  // 2^17 = 131072 is the first power of two past 100000.
+  EXPECT_NE(message.find("huge.json: /grid/k16: the grid has more than 100000 combinations"),
+            std::string::npos)
+      << message;
+
+  // Up to the bound is fine: 10 x 10 x 1000 cases.
+  std::string values;
+  for (int v = 0; v < 1000; ++v) values += (v ? ", " : "") + std::to_string(v);
+  const SweepDesc sweep = load_sweep_file(
+      write(dir, "bound.json",
+            R"({"scene": "s.json", "grid": {"a": [0,1,2,3,4,5,6,7,8,9], "b": [0,1,2,3,4,5,6,7,8,9], "c": [)" +
+                values + "]}}"));
+  EXPECT_EQ(expand_sweep(sweep).size(), static_cast<size_t>(max_sweep_cases));
+}
+
 TEST(SweepFile, BadFilesNameTheFieldAndWhatWasExpected) {
   TempDir dir("weft_sweep_bad");
   EXPECT_NE(error_of(write(dir, "a.json", R"({"scene": "s.json", "grid": {"x": [1]}, "thread": 2})"))

@@ -1,0 +1,21 @@
+# Tests of weft_tests left out of the sanitizer suite (scripts/test runs `ctest --preset asan
+# --label-exclude not_under_asan`; docs/hardening.md). Each takes minutes under ASan and UBSan at
+# -O1, where the whole rest of the suite takes about ten; shorter tests run the same code there,
+# and the release suite runs these. ctest includes this file after the discovered tests;
+# slurm_sweep is labelled in tests/CMakeLists.txt.
+set_tests_properties(
+  # 7 min: kills runs at many points; the four other CheckpointResume tests resume under ASan.
+  CheckpointResume.KilledRunResumesBitIdentically
+  # over 5 min each: long settles of 100x100 and hanging cloths; StiffCloth.ImplicitEuler* and
+  # the integrator tests step the same terms.
+  StiffCloth.HundredByHundredWithFiveNewtonIterationsAStepStaysBoundedAndSettles
+  HangingCloth.SwingsDownAndComesToRestWithPinsFixed
+  # 2-2.5 min: every shipped scene's energy budget; the other EnergyBudget tests run its code.
+  EnergyBudget.EveryShippedSceneClosesWithinOnePercent
+  # 2 min: a long adaptive run; the other AdaptiveStepping tests run its code.
+  AdaptiveStepping.StiffUndampedSpringsStayNearTheReferenceAndCreateNoEnergy
+  # 2 min each: full-length collision scenes; the shorter CollisionScenes tests (twist, soft
+  # balls, tumble dryer, drape) run the same collision phase.
+  CollisionScenes.FiveTurnTwistStaysCleanAndWithinTheStrainLimit
+  CollisionScenes.FastImpactOnThinBoxesStaysWithinTheStrainLimit
+  PROPERTIES LABELS not_under_asan)
