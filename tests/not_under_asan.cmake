@@ -1,5 +1,5 @@
-# Tests of weft_tests left out of the sanitizer suite (the asan test preset excludes this label
-# --label-exclude not_under_asan`; docs/hardening.md). Each takes minutes under ASan and UBSan at
+# Tests of weft_tests left out of the sanitizer suite (the asan test preset excludes this label;
+# docs/hardening.md). Each takes minutes under ASan and UBSan at
 # -O1, where the whole rest of the suite takes about ten; shorter tests run the same code there,
 # and the release suite runs these. ctest includes this file after the discovered tests;
 # slurm_sweep is labelled in tests/CMakeLists.txt.
