@@ -6,9 +6,8 @@
 set_tests_properties(
   # 7 min: kills runs at many points; the four other CheckpointResume tests resume under ASan.
   CheckpointResume.KilledRunResumesBitIdentically
-  # over 5 min each: long settles of 100x100 and hanging cloths; StiffCloth.ImplicitEuler* and
-  # the integrator tests step the same terms.
-  StiffCloth.HundredByHundredWithFiveNewtonIterationsAStepStaysBoundedAndSettles
+  # over 5 min: a long settle of a hanging cloth; StiffCloth.ImplicitEuler* and the integrator
+  # tests step the same terms. (The 100x100 stiff cloth is in weft_large_tests, label large.)
   HangingCloth.SwingsDownAndComesToRestWithPinsFixed
   # 2-2.5 min: every shipped scene's energy budget; the other EnergyBudget tests run its code.
   EnergyBudget.EveryShippedSceneClosesWithinOnePercent
