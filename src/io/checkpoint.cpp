@@ -20,15 +20,6 @@ namespace {
 constexpr char magic[8] = {'W', 'E', 'F', 'T', 'C', 'K', 'P', 'T'};
 constexpr size_t header_bytes = 8 + 4 + 4 + 8;
 
-uint64_t fnv1a(const std::string& bytes) {
-  uint64_t hash = 14695981039346656037ull;
-  for (const char c : bytes) {
-    hash ^= static_cast<unsigned char>(c);
-    hash *= 1099511628211ull;
-  }
-  return hash;
-}
-
 // Appends plain values to a byte string.
 class PayloadWriter {
  public:
@@ -121,6 +112,15 @@ void unpack_membrane_rest(const Eigen::MatrixXd& packed, std::vector<MembraneRes
 }
 
 }  // namespace
+
+uint64_t checkpoint_checksum(const std::string& payload) {
+  uint64_t hash = 14695981039346656037ull;
+  for (const char c : payload) {
+    hash ^= static_cast<unsigned char>(c);
+    hash *= 1099511628211ull;
+  }
+  return hash;
+}
 
 Checkpoint capture_checkpoint(const World& world, int frame, const std::string& scene_json,
                               double initial_energy, const EnergyFlows& energy_flows) {
@@ -222,7 +222,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
   }
   write_file_atomically(path, [&](std::ostream& out) {
     const uint32_t version = checkpoint_version, reserved = 0;
-    const uint64_t size = payload.bytes().size(), hash = fnv1a(payload.bytes());
+    const uint64_t size = payload.bytes().size(), hash = checkpoint_checksum(payload.bytes());
     out.write(magic, sizeof magic);
     out.write(reinterpret_cast<const char*>(&version), sizeof version);
     out.write(reinterpret_cast<const char*>(&reserved), sizeof reserved);
@@ -259,7 +259,7 @@ Checkpoint parse_checkpoint(const std::string& file, const std::string& path) {
   }
   const std::string bytes = file.substr(header_bytes, size);
   std::memcpy(&hash, file.data() + header_bytes + size, sizeof hash);
-  if (hash != fnv1a(bytes)) throw IoError(path + ": checkpoint checksum: mismatch (the file is corrupt)");
+  if (hash != checkpoint_checksum(bytes)) throw IoError(path + ": checkpoint checksum: mismatch (the file is corrupt)");
 
   PayloadReader payload(bytes, path);
   Checkpoint checkpoint;

@@ -22,6 +22,7 @@
 // read with flows of zero, so a resumed run's budget_error carries the flows of the frames
 // before it; version 2 files (no contact pairs) are read with none; version 1 files (no membrane rest) are refused with the version they hold.
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -78,5 +79,8 @@ Checkpoint read_checkpoint(const std::string& path);
 // The same from a checkpoint file's bytes; `path` names it in errors (read_checkpoint reads the
 // file and calls this).
 Checkpoint parse_checkpoint(const std::string& file, const std::string& path);
+
+// The checksum a checkpoint file ends with: FNV-1a (64 bits) of its payload's bytes.
+uint64_t checkpoint_checksum(const std::string& payload);
 
 }  // namespace weft

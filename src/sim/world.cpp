@@ -263,7 +263,7 @@ Energies World::energies() const {
   Energies energies;
   for (const Cloth& cloth : cloths_) {
     const ClothState& state = cloth.state;
-    energies.kinetic += 0.5 * (state.v.colwise().squaredNorm() * cloth.model.mass)(0);
+    energies.kinetic += kinetic_energy(cloth);
     TermEnergies terms;
     evaluate_potential(cloth.model, settings.gravity, state.x, nullptr, nullptr, HessianStencils{}, false, &terms);
     energies.gravitational += terms.gravity;

@@ -11,16 +11,6 @@
 
 namespace {
 
-// FNV-1a 64, the checksum of checkpoint.hpp's layout.
-uint64_t fnv1a(const std::string& bytes) {
-  uint64_t hash = 14695981039346656037ull;
-  for (const char c : bytes) {
-    hash ^= static_cast<unsigned char>(c);
-    hash *= 1099511628211ull;
-  }
-  return hash;
-}
-
 template <typename T>
 void append(std::string& bytes, T value) {
   bytes.append(reinterpret_cast<const char*>(&value), sizeof value);
@@ -40,7 +30,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     append<uint32_t>(file, 0);
     append<uint64_t>(file, rest.size());
     file += rest;
-    append<uint64_t>(file, fnv1a(rest));
+    append<uint64_t>(file, weft::checkpoint_checksum(rest));
   }
   weft::fuzz::expect_documented_errors([&] { weft::parse_checkpoint(file, "fuzz.bin"); });
   return 0;

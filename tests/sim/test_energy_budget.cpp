@@ -146,8 +146,24 @@ TEST(EnergyBudget, TheDrapeClosesThroughItsHardestContactSteps) {
   EXPECT_LT(largest_residual, 100.0) << "m/s";
 }
 
+// The twist winds its cloth into a rope from frame ~24 on; from there its Newton solves need up to
+// ~170 iterations (32x16: the median step 13, one in ten over 60, measured 2026-11-26). With the
+// default cap of 30 most of them ended unconverged and the residual's unbooked work broke the
+// budget (40 frames at 32x16: 108 unconverged steps, error 0.038 J = 3.9% of the initial 0.98 J;
+// 46.5 J over the full-size scene's 120 frames); the scene now sets max_iterations 200. Run
+// through the rope at a quarter of its vertices with the shipped solver settings.
+TEST(EnergyBudget, TheTwistClosesThroughItsRope) {
+  const SceneDesc scene = load_scene_file(source_dir + "/scenes/twist.json", {"cloths.0.grid.resolution=[32,16]"});
+  World world = build_world(scene);
+  const FrameSchedule schedule = frame_schedule(scene.fps, scene.time_step);
+  const BudgetRun run = run_budget(world, 40 * schedule.steps_per_frame);
+  EXPECT_LT(run.largest_error, 0.01 * run.initial)
+      << "external work " << run.flows.external_work << " J, integrator " << run.flows.integrator << " J, contact "
+      << run.flows.contact << " J";
+}
+
 // Every shipped scene, shortened: the budget closes within 1% of the initial energy after every
-// step (the bar for the full length; bench/energy_budget.sh runs them whole).
+// step (the bar; docs/recording.md lists them at full length).
 TEST(EnergyBudget, EveryShippedSceneClosesWithinOnePercent) {
   const std::vector<std::pair<std::string, std::vector<std::string>>> scenes = {
       {"default", {}},
