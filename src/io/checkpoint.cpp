@@ -217,7 +217,8 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
     for (const int index : pair) payload.value<int32_t>(index);
   }
   const EnergyFlows& flows = checkpoint.energy_flows;
-  for (const double flow : {flows.external_work, flows.damping, flows.integrator, flows.contact, flows.plastic}) {
+  for (const double flow :
+       {flows.external_work, flows.damping, flows.integrator, flows.contact, flows.plastic}) {
     payload.value<double>(flow);
   }
   write_file_atomically(path, [&](std::ostream& out) {
@@ -259,7 +260,8 @@ Checkpoint parse_checkpoint(const std::string& file, const std::string& path) {
   }
   const std::string bytes = file.substr(header_bytes, size);
   std::memcpy(&hash, file.data() + header_bytes + size, sizeof hash);
-  if (hash != checkpoint_checksum(bytes)) throw IoError(path + ": checkpoint checksum: mismatch (the file is corrupt)");
+  if (hash != checkpoint_checksum(bytes))
+    throw IoError(path + ": checkpoint checksum: mismatch (the file is corrupt)");
 
   PayloadReader payload(bytes, path);
   Checkpoint checkpoint;
@@ -293,7 +295,8 @@ Checkpoint parse_checkpoint(const std::string& file, const std::string& path) {
   }
   if (version >= 3) {
     const uint64_t pairs = payload.value<uint64_t>("contact pair count");
-    if (pairs > bytes.size() / 12) throw IoError(path + ": checkpoint field contact pair count: malformed or cut short");
+    if (pairs > bytes.size() / 12)
+      throw IoError(path + ": checkpoint field contact pair count: malformed or cut short");
     checkpoint.contact_pairs.resize(pairs);
     for (auto& pair : checkpoint.contact_pairs) {
       for (int& index : pair) index = payload.value<int32_t>("contact pair");
@@ -301,7 +304,8 @@ Checkpoint parse_checkpoint(const std::string& file, const std::string& path) {
   }
   if (version >= 4) {
     EnergyFlows& flows = checkpoint.energy_flows;
-    for (double* flow : {&flows.external_work, &flows.damping, &flows.integrator, &flows.contact, &flows.plastic}) {
+    for (double* flow :
+         {&flows.external_work, &flows.damping, &flows.integrator, &flows.contact, &flows.plastic}) {
       *flow = payload.value<double>("energy flows");
     }
   }
