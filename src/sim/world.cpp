@@ -54,8 +54,10 @@ void World::step() {
   StepStats stats;
   // Threads for our loops and for Eigen's sparse products (row-parallel, so results do not
   // depend on the count).
-  omp_set_num_threads(std::max(1, settings.threads));
-  Eigen::setNbThreads(std::max(1, settings.threads));
+  thread_governor_.set_requested(settings.threads);
+  threads_in_use_ = settings.adapt_threads ? thread_governor_.threads() : std::max(1, settings.threads);
+  omp_set_num_threads(threads_in_use_);
+  Eigen::setNbThreads(threads_in_use_);
   const int substeps = std::max(1, settings.substeps);
   const double h = settings.time_step / substeps;
   collisions_.reset_stats();
@@ -80,6 +82,7 @@ void World::step() {
   stats.total_ms = milliseconds_since(step_start);
   stats.steps = 1;
   stats_ = stats;
+  if (settings.adapt_threads) thread_governor_.record(1e-3 * stats.total_ms);
 }
 
 // Kinematic colliders follow their scripted motion: the collision phase poses them at both ends

@@ -16,6 +16,7 @@
 #include "physics/xpbd.hpp"
 #include "sim/collision_phase.hpp"
 #include "sim/energy_ledger.hpp"
+#include "sim/thread_governor.hpp"
 
 namespace weft {
 
@@ -28,6 +29,9 @@ struct SolverSettings {
   XpbdSettings xpbd;               // sub-steps and sweeps (xpbd)
   AdaptiveSettings adaptive;       // adaptive sub-stepping (symplectic_euler, midpoint)
   int threads = 1;                 // OpenMP threads for the step (1: serial; results do not depend on it)
+  // Let the step run on one thread instead of `threads` while that measures faster (a node
+  // shared with another process: sim/thread_governor.hpp). Results are the same either way.
+  bool adapt_threads = true;
   CollisionSettings collision;     // the collision phase (collision_phase.hpp)
   // Measure the energy budget's flows each step (sim/energy_ledger.hpp; StepStats::energy_flows):
   // two or three potential-energy evaluations a step, one with its gradient.
@@ -109,6 +113,8 @@ class World {
     near_pairs_restored_ = true;
   }
   const StepStats& last_step_stats() const { return stats_; }
+  // Threads the last step ran on: settings.threads, or 1 where the governor found that faster.
+  int threads_in_use() const { return threads_in_use_; }
   // Contacts the collision response acted on in the last step (every sub-step).
   const std::vector<ContactRecord>& contacts() const { return collisions_.records(); }
   // The triangle mesh standing for collider k in the collision pipeline, posed at time().
@@ -153,6 +159,8 @@ class World {
   std::vector<Positions> external_forces_;       // one per cloth (3 x n_vertices)
   double time_ = 0.0;
   StepStats stats_;
+  ThreadGovernor thread_governor_;
+  int threads_in_use_ = 1;
 };
 
 // Most integration sub-steps (steps x substeps) one frame may take. Even a 2x2 cloth needs
