@@ -2,7 +2,9 @@
 // Bounding-volume hierarchy of axis-aligned boxes over the triangles of one mesh: the broad
 // phase of collision detection. Each triangle's box is swept over the step (the union of its
 // boxes at x_start and x_end) and inflated by a margin (the cloth thickness), so one query per
-// step finds every pair that could come into proximity or collide during the step.
+// step finds every pair that could come into proximity or collide during the step. The same
+// hierarchy holds a mesh's vertices or edges as degenerate triangles (v, v, v) and (a, b, b)
+// (primitive_queries.hpp); "triangle" below then means such an entry.
 //
 // Nodes live in one flat array in depth-first preorder: a node's left child is the next node,
 // its right child is stored, and `next` is the first node after its subtree, so a box query
