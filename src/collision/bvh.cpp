@@ -101,6 +101,7 @@ void Bvh::build(const Positions& x_start, const Positions& x_end, const Triangle
   triangles_ = triangles;
   num_vertices_ = num_vertices;
   triangle_boxes_.resize(triangles.cols());
+  leaf_boxes_.resize(triangles.cols());
   compute_triangle_boxes(x_start, x_end, margin);
   build_nodes();
   refit_nodes();
@@ -239,7 +240,11 @@ void Bvh::refit_nodes() {
     BvhNode& node = nodes_[i];
     Aabb box;
     if (node.is_leaf()) {
-      for (int k = 0; k < node.count; ++k) box.grow(triangle_boxes_[triangle_order_[node.first + k]]);
+      for (int k = 0; k < node.count; ++k) {
+        const Aabb& leaf_box = triangle_boxes_[triangle_order_[node.first + k]];
+        leaf_boxes_[node.first + k] = leaf_box;
+        box.grow(leaf_box);
+      }
     } else {
       box = nodes_[i + 1].box;
       box.grow(nodes_[node.right].box);

@@ -94,6 +94,9 @@ class Bvh {
   const std::vector<int>& triangle_order() const { return triangle_order_; }
   // Swept, inflated box of each triangle (n_triangles), from the last build or refit.
   const std::vector<Aabb>& triangle_boxes() const { return triangle_boxes_; }
+  // The same boxes in leaf order (leaf n's are leaf_boxes()[first, first + count)): the pair
+  // queries read a leaf's boxes from contiguous memory instead of through triangle_order().
+  const std::vector<Aabb>& leaf_boxes() const { return leaf_boxes_; }
   const BvhSettings& settings() const { return settings_; }
   // How many times build() has run: data kept per node elsewhere is stale when this changed.
   int builds() const { return builds_; }
@@ -107,6 +110,7 @@ class Bvh {
   Triangles triangles_;  // copy of the mesh's triangles (3 x n_triangles)
   int num_vertices_ = 0;
   std::vector<Aabb> triangle_boxes_;  // (n_triangles)
+  std::vector<Aabb> leaf_boxes_;      // (n_triangles) triangle_boxes_ in triangle_order_
   std::vector<int> triangle_order_;   // (n_triangles)
   std::vector<BvhNode> nodes_;        // depth-first preorder; empty when there are no triangles
   double cost_ = 0.0;

@@ -62,14 +62,12 @@ void visit_leaf_pairs(const Bvh& first, const Bvh& second, int a, int b, int thr
   const BvhNode& leaf_b = second.nodes()[b];
   const std::vector<int>& order_a = first.triangle_order();
   const std::vector<int>& order_b = second.triangle_order();
-  const std::vector<Aabb>& boxes_a = first.triangle_boxes();
-  const std::vector<Aabb>& boxes_b = second.triangle_boxes();
+  const Aabb* boxes_a = first.leaf_boxes().data() + leaf_a.first;
+  const Aabb* boxes_b = second.leaf_boxes().data() + leaf_b.first;
   for (int i = 0; i < leaf_a.count; ++i) {
-    const int s = order_a[leaf_a.first + i];
-    const Aabb& box_s = boxes_a[s];
+    const Aabb& box_s = boxes_a[i];
     for (int j = (self && a == b) ? i + 1 : 0; j < leaf_b.count; ++j) {
-      const int t = order_b[leaf_b.first + j];
-      if (box_s.overlaps(boxes_b[t])) visit(thread, s, t);
+      if (box_s.overlaps(boxes_b[j])) visit(thread, order_a[leaf_a.first + i], order_b[leaf_b.first + j]);
     }
   }
 }
