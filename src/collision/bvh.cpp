@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "collision/bvh_traversal.hpp"
 #include "core/topology.hpp"
 
 namespace weft {
@@ -22,11 +23,6 @@ namespace {
 // Below this many triangles, refitting the triangle boxes is not worth starting threads for.
 constexpr int parallel_refit_threshold = 4096;
 
-// Node-pair tasks handed to threads in a pair query: enough that dynamic scheduling balances
-// two to a few dozen threads; a fixed number, so the split of the work is the same for any
-// thread count.
-constexpr int target_task_count = 256;
-
 void check_positions(const Positions& x_start, const Positions& x_end, double margin, const char* where) {
   if (x_start.cols() != x_end.cols()) {
     throw std::invalid_argument(std::string(where) + ": x_start has " + std::to_string(x_start.cols()) +
@@ -37,127 +33,27 @@ void check_positions(const Positions& x_start, const Positions& x_end, double ma
   }
 }
 
-// Splits the node pair `task` one level into `out`. Returns false when it cannot be split
-// (within one leaf, or two leaves): the caller keeps it whole. A pair of disjoint nodes splits
-// into nothing. With `self`, (n, n) stands for the pairs within node n, which are its two
-// children's within-pairs and the pair of its children; a node flagged in `culled` has none.
-template <bool self>
-bool split_task(const std::vector<BvhNode>& first, const std::vector<BvhNode>& second, TrianglePair task,
-                const char* culled, std::vector<TrianglePair>& out) {
-  const BvhNode& a = first[task.a];
-  const BvhNode& b = second[task.b];
-  if (self && task.a == task.b) {
-    if (culled != nullptr && culled[task.a]) return true;
-    if (a.is_leaf()) return false;
-    out.push_back({task.a + 1, task.a + 1});
-    out.push_back({a.right, a.right});
-    out.push_back({task.a + 1, a.right});
-    return true;
-  }
-  if (!a.box.overlaps(b.box)) return true;
-  if (a.is_leaf() && b.is_leaf()) return false;
-  // Descend the larger box, so both sides shrink at a similar pace.
-  if (b.is_leaf() || (!a.is_leaf() && a.box.surface_area() >= b.box.surface_area())) {
-    out.push_back({task.a + 1, task.b});
-    out.push_back({a.right, task.b});
-  } else {
-    out.push_back({task.a, task.b + 1});
-    out.push_back({task.a, b.right});
-  }
-  return true;
-}
-
-// Triangle pairs of leaf `a` of `first` against leaf `b` of `second` whose boxes overlap.
-// With `self`, (a, a) means pairs within the leaf, each pair is written with the smaller
-// triangle first, and pairs sharing a vertex are skipped unless `keep_neighbours`.
-template <bool self>
-void leaf_pairs(const Bvh& first, const Bvh& second, int a, int b, bool keep_neighbours,
-                std::vector<TrianglePair>& found) {
-  const BvhNode& leaf_a = first.nodes()[a];
-  const BvhNode& leaf_b = second.nodes()[b];
-  const std::vector<int>& order_a = first.triangle_order();
-  const std::vector<int>& order_b = second.triangle_order();
-  const std::vector<Aabb>& boxes_a = first.triangle_boxes();
-  const std::vector<Aabb>& boxes_b = second.triangle_boxes();
-  for (int i = 0; i < leaf_a.count; ++i) {
-    const int s = order_a[leaf_a.first + i];
-    const Aabb& box_s = boxes_a[s];
-    for (int j = (self && a == b) ? i + 1 : 0; j < leaf_b.count; ++j) {
-      const int t = order_b[leaf_b.first + j];
-      if (!box_s.overlaps(boxes_b[t])) continue;
-      if (self) {
-        if (!keep_neighbours && share_vertex(first.triangles(), s, t)) continue;
-        found.push_back({std::min(s, t), std::max(s, t)});
-      } else {
-        found.push_back({s, t});
-      }
-    }
-  }
-}
-
-// Visits node pair `task` and everything below it depth first, appending triangle pairs.
-template <bool self>
-void traverse(const Bvh& first, const Bvh& second, TrianglePair task, bool keep_neighbours, const char* culled,
-              std::vector<TrianglePair>& stack, std::vector<TrianglePair>& found) {
-  stack.clear();
-  stack.push_back(task);
-  while (!stack.empty()) {
-    const TrianglePair top = stack.back();
-    stack.pop_back();
-    if (!split_task<self>(first.nodes(), second.nodes(), top, culled, stack)) {
-      leaf_pairs<self>(first, second, top.a, top.b, keep_neighbours, found);
-    }
-  }
-}
-
-// Splits the root task breadth first, serially, until there are enough tasks for the threads,
-// then traverses the tasks in parallel into per-thread lists, and sorts and deduplicates those
-// into `pairs`.
+// Triangle pairs whose boxes overlap, into per-thread lists (with `self`, pairs sharing a vertex
+// skipped unless `keep_neighbours`, each pair with the smaller triangle first), then sorted and
+// deduplicated into `pairs`.
 template <bool self>
 void find_pairs(const Bvh& first, const Bvh& second, bool keep_neighbours, const char* culled,
                 BvhQueryBuffers& buffers, std::vector<TrianglePair>& pairs) {
   pairs.clear();
-  if (first.nodes().empty() || second.nodes().empty()) return;
-
-  // Tasks: split every splittable task per round; unsplittable ones carry over unchanged.
-  std::vector<TrianglePair>& tasks = buffers.tasks;
-  tasks.clear();
-  tasks.push_back({0, 0});
-  while (static_cast<int>(tasks.size()) < target_task_count) {
-    std::vector<TrianglePair>& next = buffers.next_tasks;
-    next.clear();
-    bool split_any = false;
-    for (const TrianglePair& task : tasks) {
-      if (split_task<self>(first.nodes(), second.nodes(), task, culled, next)) {
-        split_any = true;
-      } else {
-        next.push_back(task);
-      }
-    }
-    tasks.swap(next);
-    if (!split_any) break;
-  }
-
   // Per-thread buffers grow to the largest thread count seen, then stay.
   const int num_threads = std::max(1, omp_get_max_threads());
-  if (static_cast<int>(buffers.thread_stacks.size()) < num_threads) {
-    buffers.thread_stacks.resize(num_threads);
-    buffers.thread_pairs.resize(num_threads);
-  }
+  if (static_cast<int>(buffers.thread_pairs.size()) < num_threads) buffers.thread_pairs.resize(num_threads);
   for (std::vector<TrianglePair>& found : buffers.thread_pairs) found.clear();
-
-  // Traversal: dynamic scheduling, since subtrees differ widely in how many pairs they hold.
-  const int num_tasks = static_cast<int>(tasks.size());
-#pragma omp parallel num_threads(num_threads)
-  {
-    const int thread = omp_get_thread_num();
-    std::vector<TrianglePair>& stack = buffers.thread_stacks[thread];
-    std::vector<TrianglePair>& found = buffers.thread_pairs[thread];
-#pragma omp for schedule(dynamic, 1)
-    for (int k = 0; k < num_tasks; ++k) {
-      traverse<self>(first, second, tasks[k], keep_neighbours, culled, stack, found);
+  const Triangles& triangles = first.triangles();
+  auto collect = [&](int thread, int s, int t) {
+    if (self) {
+      if (!keep_neighbours && share_vertex(triangles, s, t)) return;
+      buffers.thread_pairs[thread].push_back({std::min(s, t), std::max(s, t)});
+    } else {
+      buffers.thread_pairs[thread].push_back({s, t});
     }
-  }
+  };
+  bvh_traversal::visit_overlapping_pairs<self>(first, second, culled, buffers, num_threads, collect);
 
   // Sort by counting: bucket the pairs by their first triangle, then sort each small bucket by
   // the second. Linear in the pairs, and the order does not depend on which thread found what.
@@ -205,6 +101,7 @@ void Bvh::build(const Positions& x_start, const Positions& x_end, const Triangle
   triangles_ = triangles;
   num_vertices_ = num_vertices;
   triangle_boxes_.resize(triangles.cols());
+  leaf_boxes_.resize(triangles.cols());
   compute_triangle_boxes(x_start, x_end, margin);
   build_nodes();
   refit_nodes();
@@ -343,7 +240,11 @@ void Bvh::refit_nodes() {
     BvhNode& node = nodes_[i];
     Aabb box;
     if (node.is_leaf()) {
-      for (int k = 0; k < node.count; ++k) box.grow(triangle_boxes_[triangle_order_[node.first + k]]);
+      for (int k = 0; k < node.count; ++k) {
+        const Aabb& leaf_box = triangle_boxes_[triangle_order_[node.first + k]];
+        leaf_boxes_[node.first + k] = leaf_box;
+        box.grow(leaf_box);
+      }
     } else {
       box = nodes_[i + 1].box;
       box.grow(nodes_[node.right].box);

@@ -2,7 +2,9 @@
 // Bounding-volume hierarchy of axis-aligned boxes over the triangles of one mesh: the broad
 // phase of collision detection. Each triangle's box is swept over the step (the union of its
 // boxes at x_start and x_end) and inflated by a margin (the cloth thickness), so one query per
-// step finds every pair that could come into proximity or collide during the step.
+// step finds every pair that could come into proximity or collide during the step. The same
+// hierarchy holds a mesh's vertices or edges as degenerate triangles (v, v, v) and (a, b, b)
+// (primitive_queries.hpp); "triangle" below then means such an entry.
 //
 // Nodes live in one flat array in depth-first preorder: a node's left child is the next node,
 // its right child is stored, and `next` is the first node after its subtree, so a box query
@@ -92,6 +94,9 @@ class Bvh {
   const std::vector<int>& triangle_order() const { return triangle_order_; }
   // Swept, inflated box of each triangle (n_triangles), from the last build or refit.
   const std::vector<Aabb>& triangle_boxes() const { return triangle_boxes_; }
+  // The same boxes in leaf order (leaf n's are leaf_boxes()[first, first + count)): the pair
+  // queries read a leaf's boxes from contiguous memory instead of through triangle_order().
+  const std::vector<Aabb>& leaf_boxes() const { return leaf_boxes_; }
   const BvhSettings& settings() const { return settings_; }
   // How many times build() has run: data kept per node elsewhere is stale when this changed.
   int builds() const { return builds_; }
@@ -105,6 +110,7 @@ class Bvh {
   Triangles triangles_;  // copy of the mesh's triangles (3 x n_triangles)
   int num_vertices_ = 0;
   std::vector<Aabb> triangle_boxes_;  // (n_triangles)
+  std::vector<Aabb> leaf_boxes_;      // (n_triangles) triangle_boxes_ in triangle_order_
   std::vector<int> triangle_order_;   // (n_triangles)
   std::vector<BvhNode> nodes_;        // depth-first preorder; empty when there are no triangles
   double cost_ = 0.0;

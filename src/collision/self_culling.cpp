@@ -258,4 +258,24 @@ bool SelfCulling::contour_simple(int node, const Vec3& axis, const Positions& x_
   return true;
 }
 
+void culled_regions(const Bvh& bvh, const std::vector<char>& culled, std::vector<int>& region) {
+  region.assign(bvh.num_triangles(), -1);
+  // Preorder: the first culled node met on the way down is the topmost of its subtree, which
+  // spans the nodes [node, node.next).
+  const std::vector<BvhNode>& nodes = bvh.nodes();
+  const int num_nodes = static_cast<int>(nodes.size());
+  int i = 0;
+  while (i < num_nodes) {
+    if (!culled[i]) {
+      ++i;
+      continue;
+    }
+    for (int k = i; k < nodes[i].next; ++k) {
+      if (!nodes[k].is_leaf()) continue;
+      for (int j = 0; j < nodes[k].count; ++j) region[bvh.triangle_order()[nodes[k].first + j]] = i;
+    }
+    i = nodes[i].next;
+  }
+}
+
 }  // namespace weft

@@ -52,6 +52,8 @@ void CollisionPhase::set_meshes(const std::vector<Cloth>& cloths, const std::vec
     slot.topology = build_topology(slot.local_triangles, slot.num_vertices);
     slot.offsets = offsets;
     slot.global_triangles = slot.local_triangles.array() + offsets.vertex;
+    slot.vertex_entries = point_entries(offsets.vertex, slot.num_vertices);
+    slot.edge_entries = segment_entries(slot.topology.edges, offsets.vertex);
     offsets = next_offsets(offsets, slot.num_vertices, static_cast<int>(slot.local_triangles.cols()),
                            slot.topology.num_edges());
   }
@@ -143,45 +145,56 @@ CollisionStep CollisionPhase::make_step() {
   return CollisionStep{x_start_, x_end_, velocity_, inverse_mass_, triangles_, edges_, time_step_};
 }
 
-// Swept boxes over the current motion, each inflated by half the largest thickness so that two
-// boxes overlap whenever their triangles come within a thickness; a hierarchy that refitting has
-// made too loose is built again.
+// Swept boxes over the current motion (each mesh's triangles, vertices and edges), each inflated
+// by half the largest thickness so that two boxes overlap whenever their primitives come within a
+// thickness; a hierarchy that refitting has made too loose is built again.
 void CollisionPhase::refit_bounding_volumes() {
   for (MeshSlot& slot : meshes_) {
     if (slot.built && !slot.moves) continue;
-    if (!slot.built || slot.bvh.needs_rebuild()) {
-      slot.bvh.build(x_start_, x_end_, slot.global_triangles, box_margin(), settings.bvh);
-      slot.built = true;
-      ++stats_.bvh_rebuilds;
-    } else {
-      slot.bvh.refit(x_start_, x_end_, box_margin());
-    }
+    const auto update = [&](Bvh& bvh, const Triangles& entries) {
+      if (!slot.built || bvh.needs_rebuild()) {
+        bvh.build(x_start_, x_end_, entries, box_margin(), settings.bvh);
+        ++stats_.bvh_rebuilds;
+      } else {
+        bvh.refit(x_start_, x_end_, box_margin());
+      }
+    };
+    update(slot.bvh, slot.global_triangles);
+    update(slot.vertex_bvh, slot.vertex_entries);
+    update(slot.edge_bvh, slot.edge_entries);
+    slot.built = true;
   }
 }
 
-// Triangle pairs whose swept boxes overlap (self, cloth-cloth, cloth-collider; colliders never
-// meet each other), turned into primitive pairs; pairs of infinite-mass vertices only are dropped.
-// Self pairs of triangles that share a vertex are kept: a hem folding through the row next to
+PrimitiveMesh CollisionPhase::primitive_mesh(const MeshSlot& slot) const {
+  return PrimitiveMesh{slot.local_triangles, slot.topology, slot.offsets, slot.bvh,
+                       slot.vertex_bvh,      slot.edge_bvh};
+}
+
+// Primitive pairs whose swept boxes come within the largest thickness (self, cloth-cloth,
+// cloth-collider; colliders never meet each other), queried primitive against primitive
+// (collision/primitive_queries.hpp); pairs of infinite-mass vertices only are dropped. Self pairs
+// of primitives on neighbouring triangles are included: a hem folding through the row next to
 // it meets only triangles that share a vertex with its own (docs/collision.md).
 void CollisionPhase::query_candidates(CollisionCandidates& candidates) {
   candidates.clear();
   vertex_lower_.noalias() = x_start_.cwiseMin(x_end_);
   vertex_upper_.noalias() = x_start_.cwiseMax(x_end_);
   const SweptVertexBoxes boxes{vertex_lower_, vertex_upper_, max_thickness_};
-  const auto candidate_mesh = [&](const MeshSlot& slot) {
-    return CandidateMesh{slot.local_triangles, slot.topology, slot.offsets, &boxes};
-  };
   for (int c = 0; c < num_cloths_; ++c) {
     MeshSlot& cloth = meshes_[c];
     if (materials_[c].self_collision) {
       cloth.culling.update(cloth.bvh, x_start_, x_end_, max_thickness_, settings.self_culling);
-      find_self_pairs(cloth.bvh, buffers_, pairs_, SharedVertexPairs::keep, &cloth.culling.culled());
-      append_self_candidates(pairs_, candidate_mesh(cloth), candidates, self_pair_list());
+      const std::vector<int>* regions = nullptr;
+      if (settings.self_culling.enabled) {
+        culled_regions(cloth.bvh, cloth.culling.culled(), culled_regions_);
+        regions = &culled_regions_;
+      }
+      append_self_primitive_candidates(primitive_mesh(cloth), boxes, regions, buffers_, candidates);
     }
     for (size_t other = c + 1; other < meshes_.size(); ++other) {
-      find_pairs_between(cloth.bvh, meshes_[other].bvh, buffers_, pairs_);
-      append_candidates_between(pairs_, candidate_mesh(cloth), candidate_mesh(meshes_[other]), candidates,
-                                TrianglePairList::complete);
+      append_primitive_candidates_between(primitive_mesh(cloth), primitive_mesh(meshes_[other]), boxes,
+                                          buffers_, candidates);
     }
   }
   sort_candidates(candidates);
@@ -279,7 +292,8 @@ void CollisionPhase::apply_proximity() {
     const VertexFacePair& pair = vertex_faces[k];
     const auto corners = triangles_.col(pair.triangle);
     const double distance =
-        point_triangle_closest(x.col(pair.vertex), x.col(corners[0]), x.col(corners[1]), x.col(corners[2])).distance;
+        point_triangle_closest(x.col(pair.vertex), x.col(corners[0]), x.col(corners[1]), x.col(corners[2]))
+            .distance;
     near_vertex_face_[k] = distance < pair_thickness(pair.vertex, corners[0]);
   }
 #pragma omp parallel for schedule(static) if (num_edge_edges > 1024)
@@ -532,8 +546,8 @@ bool CollisionPhase::verify_motion() {
 }
 
 // verify_motion's update: grows the boxes of escaped_vertices_ to hold their motion, refits the
-// hierarchies over the boxes and writes the candidates of the triangles around those vertices
-// against every mesh (self pairs within culled regions included), sorted.
+// hierarchies over the boxes and writes the candidates with an escaped vertex against every mesh
+// (self pairs within culled regions included), sorted.
 void CollisionPhase::query_escaped_candidates(CollisionCandidates& candidates) {
   candidates.clear();
   escaped_flags_.assign(x_end_.cols(), 0);
@@ -542,44 +556,30 @@ void CollisionPhase::query_escaped_candidates(CollisionCandidates& candidates) {
     vertex_upper_.col(v) = vertex_upper_.col(v).cwiseMax(x_end_.col(v));
     escaped_flags_[v] = 1;
   }
-  // A box over the corners' boxes is the box over both corner sets. Only cloths move in the
-  // response, and a cloth without escaped vertices keeps the boxes of its last refit.
+  // A box over the vertices' boxes is the box over both ends of their motion. Only cloths move
+  // in the response, and a cloth without escaped vertices keeps the boxes of its last refit.
   for (int c = 0; c < num_cloths_; ++c) {
     MeshSlot& slot = meshes_[c];
     const auto first = escaped_flags_.begin() + slot.offsets.vertex;
     if (std::find(first, first + slot.num_vertices, 1) != first + slot.num_vertices) {
       slot.bvh.refit(vertex_lower_, vertex_upper_, box_margin());
+      slot.vertex_bvh.refit(vertex_lower_, vertex_upper_, box_margin());
+      slot.edge_bvh.refit(vertex_lower_, vertex_upper_, box_margin());
     }
   }
   const SweptVertexBoxes boxes{vertex_lower_, vertex_upper_, max_thickness_};
-  const auto candidate_mesh = [&](const MeshSlot& slot) {
-    return CandidateMesh{slot.local_triangles, slot.topology, slot.offsets, &boxes};
-  };
   for (int c = 0; c < num_cloths_; ++c) {
-    const MeshSlot& cloth = meshes_[c];
-    escaped_triangles_.clear();
-    for (int t = 0; t < cloth.global_triangles.cols(); ++t) {
-      const auto corners = cloth.global_triangles.col(t);
-      if (escaped_flags_[corners[0]] || escaped_flags_[corners[1]] || escaped_flags_[corners[2]]) {
-        escaped_triangles_.push_back(t);
-      }
-    }
-    if (escaped_triangles_.empty()) continue;
+    const PrimitiveMesh cloth = primitive_mesh(meshes_[c]);
+    list_moved_primitives(cloth, escaped_flags_, escaped_primitives_);
+    if (escaped_primitives_.empty()) continue;
     if (materials_[c].self_collision) {
-      find_pairs_of(cloth.bvh, escaped_triangles_, cloth.bvh, true, pairs_, box_triangles_, SharedVertexPairs::keep);
-      append_self_candidates(pairs_, candidate_mesh(cloth), candidates, self_pair_list());
+      append_moved_primitive_candidates(cloth, escaped_primitives_, cloth, true, boxes, pairs_,
+                                        box_triangles_, candidates);
     }
     for (size_t other = 0; other < meshes_.size(); ++other) {
       if (other == static_cast<size_t>(c)) continue;
-      find_pairs_of(cloth.bvh, escaped_triangles_, meshes_[other].bvh, false, pairs_, box_triangles_);
-      if (other > static_cast<size_t>(c)) {
-        append_candidates_between(pairs_, candidate_mesh(cloth), candidate_mesh(meshes_[other]), candidates,
-                                  TrianglePairList::complete);
-      } else {  // the lower mesh comes first, as in query_candidates
-        for (TrianglePair& pair : pairs_) std::swap(pair.a, pair.b);
-        append_candidates_between(pairs_, candidate_mesh(meshes_[other]), candidate_mesh(cloth), candidates,
-                                  TrianglePairList::complete);
-      }
+      append_moved_primitive_candidates(cloth, escaped_primitives_, primitive_mesh(meshes_[other]), false,
+                                        boxes, pairs_, box_triangles_, candidates);
     }
   }
   sort_candidates(candidates);

@@ -4,9 +4,9 @@
 // edge index space, and the integrator's candidate motion x_start -> x_end is corrected in place
 // by these phases, each a member function the World calls in order:
 //   gather_motion           combined x_start, x_end, velocity and inverse mass
-//   find_candidates         broad phase: BVHs refitted with swept boxes (rebuilt when loose),
-//                           self, cloth-cloth and cloth-collider triangle pairs, then their
-//                           vertex-face and edge-edge primitive pairs
+//   find_candidates         broad phase: BVHs over triangles, vertices and edges refitted with
+//                           swept boxes (rebuilt when loose), then self, cloth-cloth and
+//                           cloth-collider vertex-face and edge-edge pairs queried directly
 //   apply_proximity         narrow phase (pairs closer than the thickness at the start) and the
 //                           repulsion + Coulomb friction impulses, per material pair
 //   limit_strain            edges stretched past collision.strain_limit shortened (when on);
@@ -28,6 +28,7 @@
 #include "collision/collision_step.hpp"
 #include "collision/contact_record.hpp"
 #include "collision/impact_zones.hpp"
+#include "collision/primitive_queries.hpp"
 #include "collision/self_culling.hpp"
 #include "collision/strain_limiting.hpp"
 #include "core/topology.hpp"
@@ -69,7 +70,7 @@ struct CollisionSettings {
 
 // What the phase did in the last step, summed over sub-steps by the World.
 struct CollisionPhaseStats {
-  double broad_ms = 0.0;     // BVH refit/rebuild, pair queries, primitive candidates
+  double broad_ms = 0.0;     // BVH refit/rebuild, primitive pair queries
   double narrow_ms = 0.0;    // proximity and continuous tests
   double response_ms = 0.0;  // impulses, friction, impact zones
   int vertex_face_candidates = 0;
@@ -148,9 +149,13 @@ class CollisionPhase {
     int num_vertices = 0;
     Triangles local_triangles;   // (3 x n_triangles), vertex indices within the mesh
     Triangles global_triangles;  // the same in combined vertex indices (what the BVH reads)
+    Triangles vertex_entries;    // point_entries of the vertices (what vertex_bvh reads)
+    Triangles edge_entries;      // segment_entries of the edges (what edge_bvh reads)
     MeshTopology topology;
-    Bvh bvh;
-    SelfCulling culling;         // cloths with self-collision: regions that cannot touch themselves
+    Bvh bvh;              // over the triangles
+    Bvh vertex_bvh;       // over the vertices
+    Bvh edge_bvh;         // over the edges
+    SelfCulling culling;  // cloths with self-collision: regions that cannot touch themselves
     bool built = false;
     bool moves = true;           // cloths, kinematic colliders
     double thickness = 0.0;      // cloths; 0 for colliders
@@ -159,6 +164,7 @@ class CollisionPhase {
 
   CollisionStep make_step();
   void refit_bounding_volumes();
+  PrimitiveMesh primitive_mesh(const MeshSlot& slot) const;
   void query_candidates(CollisionCandidates& candidates);
   void query_escaped_candidates(CollisionCandidates& candidates);
   // Drops pairs whose four vertices all have infinite mass (nothing can move them).
@@ -171,12 +177,6 @@ class CollisionPhase {
   ResponseSettings response_settings(int group) const;
   ResponseSettings ccd_settings() const;
   double box_margin() const { return 0.5 * max_thickness_; }
-  // What a self query's triangle pairs hold: every overlapping pair without self-collision
-  // culling; with it, the culled regions' pairs are missing (full query) or present (re-query),
-  // so each primitive pair is written from every pair that carries it.
-  TrianglePairList self_pair_list() const {
-    return settings.self_culling.enabled ? TrianglePairList::any : TrianglePairList::complete;
-  }
   void label_records(size_t first);
 
   std::vector<MeshSlot> meshes_;            // cloths first, then colliders
@@ -209,8 +209,9 @@ class CollisionPhase {
   std::vector<char> culled_before_;  // verify_motion: the culling the candidates were found with
   std::vector<int> escaped_vertices_;   // verify_motion: vertices whose corrected motion left their box
   std::vector<char> escaped_flags_;     // per vertex
-  std::vector<int> escaped_triangles_;  // of one cloth, around escaped vertices
+  MovedPrimitives escaped_primitives_;  // of one cloth, touching escaped vertices
   std::vector<int> box_triangles_;      // find_pairs_of's scratch
+  std::vector<int> culled_regions_;     // per triangle of one cloth, with self-collision culling
   GroupedPairs<VertexFacePair> near_vertex_faces_;  // the last proximity phase's pairs by material group
   GroupedPairs<EdgeEdgePair> near_edge_edges_;
   std::vector<char> near_vertex_face_;
