@@ -230,6 +230,7 @@ int Run::load() {
   scene_ = load_scene_file(scene_file_, overrides_);
   world_ = build_world(scene_);
   world_.settings.threads = options_.threads > 0 ? options_.threads : omp_get_num_procs();
+  world_.settings.adapt_threads = !options_.fixed_threads;
   scene_json_ = scene_to_json(scene_).dump();
   if (resuming) {
     const nlohmann::json saved = comparable_scene(nlohmann::json::parse(checkpoint_.scene_json));

@@ -17,6 +17,7 @@ struct HeadlessOptions {
   int frames = -1;     // -1: the scene's "frames"
   bool quiet = false;  // no progress output
   int threads = 1;     // threads for the solver (0: all cores)
+  bool fixed_threads = false;  // never let the thread governor fall back to one thread
   RecordingFormat format = RecordingFormat::point_cache;
   bool format_given = false;  // false with resume_dir: the format of the recorded run
   int checkpoint_every = 0;  // frames between checkpoints; 0: none

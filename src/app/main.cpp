@@ -129,6 +129,9 @@ int run(int argc, char** argv) {
       ->check(whole_number("threads", 0, weft::max_threads,
                            "from 0 (all cores) to " + std::to_string(weft::max_threads)))
       ->capture_default_str();
+  app.add_flag("--fixed-threads", headless_options.fixed_threads,
+               "Headless: always run on --threads threads (by default a step runs on one thread while that "
+               "measures faster, e.g. when another process holds a core; results are the same either way)");
   app.add_option("--format", format,
                  "Headless recording: pc2 (rest OBJ + point cache per cloth), obj (a file "
                  "per frame) or both")

@@ -9,11 +9,12 @@ void ThreadGovernor::set_requested(int requested) {
   if (requested == requested_) return;
   requested_ = requested;
   current_ = requested;
-  probing_ = false;
+  phase_ = Phase::run;
   wait_ = first_probe_after;
   steps_until_probe_ = first_probe_after;
   recent_count_ = 0;
   probe_count_ = 0;
+  after_count_ = 0;
 }
 
 double ThreadGovernor::median(Window values) {
@@ -23,24 +24,33 @@ double ThreadGovernor::median(Window values) {
 
 void ThreadGovernor::record(double step_seconds) {
   if (requested_ == 1) return;
-  if (probing_) {
-    probe_[probe_count_++] = step_seconds;
-    if (probe_count_ < probe_steps) return;
-    probing_ = false;
-    if (median(probe_) < switch_margin * median(recent_)) {
-      current_ = other_count();
-      wait_ = first_probe_after;
-    } else {
-      wait_ = std::min(2 * wait_, longest_wait);
-    }
-    steps_until_probe_ = wait_;
-    recent_count_ = 0;
-    probe_count_ = 0;
-    return;
+  switch (phase_) {
+    case Phase::run:
+      recent_[recent_count_ % probe_steps] = step_seconds;  // the order within the window is irrelevant
+      ++recent_count_;
+      if (--steps_until_probe_ <= 0 && recent_count_ >= probe_steps) phase_ = Phase::probe;
+      return;
+    case Phase::probe:
+      probe_[probe_count_++] = step_seconds;
+      if (probe_count_ == probe_steps) phase_ = Phase::after_probe;
+      return;
+    case Phase::after_probe:
+      after_[after_count_++] = step_seconds;
+      if (after_count_ < probe_steps) return;
+      break;
   }
-  recent_[recent_count_ % probe_steps] = step_seconds;  // the order within the window is irrelevant
-  ++recent_count_;
-  if (--steps_until_probe_ <= 0 && recent_count_ >= probe_steps) probing_ = true;
+  const double current_time = 0.5 * (median(recent_) + median(after_));
+  if (median(probe_) < switch_margin * current_time) {
+    current_ = other_count();
+    wait_ = first_probe_after;
+  } else {
+    wait_ = std::min(2 * wait_, longest_wait);
+  }
+  phase_ = Phase::run;
+  steps_until_probe_ = wait_;
+  recent_count_ = 0;
+  probe_count_ = 0;
+  after_count_ = 0;
 }
 
 }  // namespace weft

@@ -10,8 +10,10 @@
 // sums are added in chunk order), so switching changes how fast a run goes, never what it
 // computes.
 //
-// Probe: `probe_steps` steps on the other count, compared by median step time with the
-// `probe_steps` steps just before it (neighbouring steps cost about the same). The first probe
+// Probe: `probe_steps` steps on the other count, then `probe_steps` on the current count again;
+// the probe's median step time is compared with the mean of the medians of the windows just
+// before and just after it, so that a trend in the steps' cost (a cloth reaching a collider
+// costs several times more a step within a few frames) cancels to first order. The first probe
 // comes after `first_probe_after` steps; each probe that confirms the current count doubles the
 // wait to the next (up to `longest_wait`), a switch resets it, so a run that never needs to
 // switch spends a few steps in a thousand probing.
@@ -31,7 +33,7 @@ class ThreadGovernor {
   void set_requested(int requested);
   int requested() const { return requested_; }
   // Threads for the next step.
-  int threads() const { return probing_ ? other_count() : current_; }
+  int threads() const { return phase_ == Phase::probe ? other_count() : current_; }
   // Reports the wall time of the step just run on threads().
   void record(double step_seconds);
 
@@ -40,15 +42,19 @@ class ThreadGovernor {
   using Window = std::array<double, probe_steps>;
   static double median(Window values);
 
+  enum class Phase { run, probe, after_probe };
+
   int requested_ = 1;
   int current_ = 1;
-  bool probing_ = false;
+  Phase phase_ = Phase::run;
   int wait_ = first_probe_after;  // steps on current_ before the next probe
   int steps_until_probe_ = first_probe_after;
   Window recent_{};  // the last step times on current_ (a ring, recent_count_ filled)
   int recent_count_ = 0;
   Window probe_{};  // step times of the probe under way
   int probe_count_ = 0;
+  Window after_{};  // step times on current_ after the probe
+  int after_count_ = 0;
 };
 
 }  // namespace weft

@@ -3,6 +3,8 @@
 // taken by another process), returns when the other process leaves, and is not flipped by noise.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <random>
 
@@ -77,6 +79,19 @@ TEST(ThreadGovernor, FallsBackToOneThreadWhileACoreIsTakenAndReturnsAfter) {
   // After a switch the probes back off again from first_probe_after: at most six in 1000 steps
   // (20, 40, ..., 640 steps apart).
   EXPECT_LE(free.single_thread_steps, 6 * ThreadGovernor::probe_steps);
+}
+
+TEST(ThreadGovernor, AFallingStepCostDoesNotPassForAFasterCount) {
+  // Step costs falling 8% a step over the first 60 steps (a cloth leaving a hard contact), two
+  // threads 1.3x faster throughout. A probe compared only with the steps before it would see one
+  // thread as faster (1.3 x 0.92^5 = 0.86); against the steps before and after it, it does not.
+  ThreadGovernor governor;
+  governor.set_requested(2);
+  const GovernedRun result = run(governor, 200, [](int step, int threads) {
+    return std::pow(0.92, std::min(step, 60)) * (threads == 1 ? 1.3 : 1.0);
+  });
+  EXPECT_EQ(result.last_threads, 2);
+  EXPECT_LE(result.single_thread_steps, 3 * ThreadGovernor::probe_steps);
 }
 
 TEST(ThreadGovernor, NoiseWithinTheMarginDoesNotSwitch) {
