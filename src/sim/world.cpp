@@ -55,9 +55,9 @@ void World::step() {
   // Threads for our loops and for Eigen's sparse products (row-parallel, so results do not
   // depend on the count).
   thread_governor_.set_requested(settings.threads);
-  threads_in_use_ = settings.adapt_threads ? thread_governor_.threads() : std::max(1, settings.threads);
-  omp_set_num_threads(threads_in_use_);
-  Eigen::setNbThreads(threads_in_use_);
+  const int threads = settings.adapt_threads ? thread_governor_.threads() : std::max(1, settings.threads);
+  omp_set_num_threads(threads);
+  Eigen::setNbThreads(threads);
   const int substeps = std::max(1, settings.substeps);
   const double h = settings.time_step / substeps;
   collisions_.reset_stats();

@@ -113,8 +113,6 @@ class World {
     near_pairs_restored_ = true;
   }
   const StepStats& last_step_stats() const { return stats_; }
-  // Threads the last step ran on: settings.threads, or 1 where the governor found that faster.
-  int threads_in_use() const { return threads_in_use_; }
   // Contacts the collision response acted on in the last step (every sub-step).
   const std::vector<ContactRecord>& contacts() const { return collisions_.records(); }
   // The triangle mesh standing for collider k in the collision pipeline, posed at time().
@@ -160,7 +158,6 @@ class World {
   double time_ = 0.0;
   StepStats stats_;
   ThreadGovernor thread_governor_;
-  int threads_in_use_ = 1;
 };
 
 // Most integration sub-steps (steps x substeps) one frame may take. Even a 2x2 cloth needs
