@@ -11,7 +11,7 @@ set_tests_properties(
   HangingCloth.SwingsDownAndComesToRestWithPinsFixed
   # 2-2.5 min: every shipped scene's energy budget; the other EnergyBudget tests run its code.
   EnergyBudget.EveryShippedSceneClosesWithinOnePercent
-  # 20 s in release: 40 frames of the twist at 32x16, up to 200 Newton iterations a step.
+  # ~2 min in release: 90 frames of the twist at 32x16, up to 200 Newton iterations a step.
   EnergyBudget.TheTwistClosesThroughItsRope
   # 2 min: a long adaptive run; the other AdaptiveStepping tests run its code.
   AdaptiveStepping.StiffUndampedSpringsStayNearTheReferenceAndCreateNoEnergy

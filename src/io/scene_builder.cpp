@@ -180,7 +180,13 @@ Cloth build_cloth(const ClothDesc& desc, const SceneDesc& scene, int index) {
       throw SceneError(scene.source_file, path + "/membrane", error.what());
     }
   }
-  if (desc.bending) model.bending = make_bending_term(topology, mesh.positions, desc.bending_stiffness);
+  if (desc.bending) {
+    try {
+      model.bending = make_bending_term(topology, mesh.positions, desc.bending_stiffness, desc.bending_model);
+    } catch (const std::invalid_argument& error) {
+      throw SceneError(scene.source_file, path + "/bending/model", error.what());
+    }
+  }
   model.air_drag.normal_coefficient = desc.normal_drag;
   model.air_drag.tangential_coefficient = desc.tangential_drag;
   model.air_drag.wind = scene.wind;

@@ -185,6 +185,8 @@ const std::vector<std::pair<std::string, IntegratorKind>> integrator_names = {
     {"xpbd", IntegratorKind::xpbd}};
 const std::vector<std::pair<std::string, LinearSolverKind>> linear_solver_names = {
     {"conjugate_gradient", LinearSolverKind::conjugate_gradient}, {"cholesky", LinearSolverKind::cholesky}};
+const std::vector<std::pair<std::string, BendingModel>> bending_model_names = {
+    {"dihedral", BendingModel::dihedral}, {"quadratic", BendingModel::quadratic}};
 const Range pitch_range{-88.0, 88.0, false, " in [-88, 88]"};
 const std::vector<std::string> corner_names = {"bottom_left", "bottom_right", "top_left", "top_right"};
 const std::vector<std::string> edge_names = {"bottom", "top", "left", "right"};
@@ -313,6 +315,7 @@ ClothDesc read_cloth(const json& value, const std::string& path, const std::stri
     ObjectReader bending(*bending_value, reader.path_of("bending"), file);
     cloth.bending = true;
     bending.number("stiffness", cloth.bending_stiffness, non_negative);
+    bending.enumeration("model", cloth.bending_model, bending_model_names);
     bending.finish();
   }
   if (const json* drag_value = reader.find("air_drag")) {
@@ -707,7 +710,10 @@ json scene_to_json(const SceneDesc& scene) {
                           {"thickness", material.thickness},           {"compression_factor", material.compression_factor},
                           {"yield_strain", cloth.yield_strain},        {"plastic_flow", cloth.plastic_flow}};
     }
-    if (cloth.bending) item["bending"] = {{"stiffness", cloth.bending_stiffness}};
+    if (cloth.bending) {
+      item["bending"] = {{"stiffness", cloth.bending_stiffness},
+                         {"model", name_of(cloth.bending_model, bending_model_names)}};
+    }
     item["air_drag"] = {{"normal", cloth.normal_drag}, {"tangential", cloth.tangential_drag}};
     if (cloth.pressure) {
       item["pressure"] = {{"bulk_modulus", cloth.bulk_modulus}, {"pressure_scale", cloth.pressure_scale}};

@@ -4,7 +4,7 @@
 
 #include "core/math.hpp"
 #include "physics/air_drag.hpp"
-#include "physics/hinge_bending.hpp"
+#include "physics/bending.hpp"
 #include "physics/mass_spring.hpp"
 #include "physics/membrane_stvk.hpp"
 #include "physics/scripted_pins.hpp"
@@ -22,7 +22,7 @@ struct ClothModel {
   // Force terms; each is off (and costs nothing) unless the scene turned it on.
   SpringSet springs;               // the seed's structural, shear and bend springs
   MembraneTerm membrane;           // StVK triangle membrane with buckling and plastic yield
-  BendingTerm bending;             // dihedral-angle hinge bending
+  BendingTerm bending;             // hinge bending, dihedral or quadratic
   AirDragTerm air_drag;            // air drag and wind
   PressureTerm pressure;           // enclosed-volume pressure (closed soft bodies)
   std::vector<PinScript> scripted_pins;  // moving pins (their vertices have inverse_mass 0)

@@ -47,7 +47,7 @@ double evaluate_potential(const ClothModel& model, const Vec3& gravity, const Po
     terms.membrane = evaluate_membrane(model.membrane, model.triangles, x, gradient, hessian, stencils.triangles, project);
   }
   if (model.bending.enabled()) {
-    terms.bending = evaluate_hinge_bending(model.bending, x, gradient, hessian, stencils.hinges, project);
+    terms.bending = evaluate_bending(model.bending, x, gradient, hessian, stencils.hinges, project);
   }
   if (model.pressure.enabled) {
     terms.pressure = evaluate_pressure(model.pressure, model.triangles, x, gradient, hessian, stencils.triangles, project);
@@ -95,7 +95,7 @@ void compute_forces(const ClothModel& model, const Vec3& gravity, const Position
   // The energy terms without their own force routine add their gradient, then the sign flips.
   force.setZero();
   if (model.membrane.enabled()) evaluate_membrane(model.membrane, model.triangles, x, &force, nullptr, -1, false);
-  if (model.bending.enabled()) evaluate_hinge_bending(model.bending, x, &force, nullptr, -1, false);
+  if (model.bending.enabled()) evaluate_bending(model.bending, x, &force, nullptr, -1, false);
   if (model.pressure.enabled) evaluate_pressure(model.pressure, model.triangles, x, &force, nullptr, -1, false);
   force = -force;
   add_gravity_forces(model.mass, gravity, force);

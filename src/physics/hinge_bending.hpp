@@ -10,12 +10,7 @@
 // e = x1 - x0: 0 when flat, positive when the hinge is convex seen from the front (a mountain:
 // the wings fold away from the normal side; every edge of an outward-facing box is +pi/2),
 // negative when concave (a valley).
-#include <vector>
-
 #include "core/math.hpp"
-#include "core/topology.hpp"
-#include "physics/element_coloring.hpp"
-#include "physics/sparse_hessian.hpp"
 
 namespace weft {
 
@@ -52,31 +47,5 @@ struct HingeGaussNewton {
 };
 HingeGaussNewton hinge_bending_gauss_newton(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& x3,
                                            const HingeRest& rest, double stiffness);
-
-// The bending term of a cloth: every interior edge of the rest mesh (no hinges: the term is off).
-struct BendingTerm {
-  Eigen::Matrix4Xi hinges;      // MeshTopology::hinges layout (4 x n_hinges)
-  std::vector<HingeRest> rest;  // per hinge
-  double stiffness = 0.0;       // J (N m)
-  ElementColoring coloring;     // of the hinges, for the parallel evaluation (none: serial)
-  bool enabled() const { return hinges.cols() > 0; }
-};
-
-// Hinges and rest angles from the rest mesh; hinges with a degenerate wing are left out.
-BendingTerm make_bending_term(const MeshTopology& topology, const Positions& rest_positions,
-                              double stiffness);
-
-// Bending energy of all hinges; adds the gradient and the Hessian (stencil `stencil` over
-// term.hinges) to the outputs that are not null. With `project` each hinge's Hessian is made PSD
-// by its Gauss-Newton part rather than by an eigen-decomposition: on a 64x64 membrane cloth the
-// 12x12 eigen-projection took 45% of an implicit step (perf), the Gauss-Newton form costs a rank-one
-// update, and Newton still converges in the same number of iterations (measured, docs/performance.md).
-// That rank-one matrix is added block by block (SparseHessian::add_element_outer), never formed.
-// Since theta is invariant under rigid motion, a . u = 0 for every rigid velocity u, so the
-// Gauss-Newton matrix leaves rigid motion free. No PSD matrix that leaves the wing tips
-// uncoupled can do so and still resist bending (a rotation about the hinge edge moves each tip
-// along its own a-part), which is why the tips' blocks stay in the pattern.
-double evaluate_hinge_bending(const BendingTerm& term, const Positions& x, Positions* gradient,
-                              SparseHessian* hessian, int stencil, bool project);
 
 }  // namespace weft

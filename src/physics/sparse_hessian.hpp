@@ -36,6 +36,10 @@ class SparseHessian {
   // forming it.
   template <int K>
   void add_element_outer(int stencil, int e, double scale, const Eigen::Matrix<double, 3 * K, 1>& a);
+  // Adds the element matrix whose 3x3 block (a, b) is coefficients(a, b) * I3 (a quadratic form of
+  // the positions that acts alike on x, y and z) without forming it.
+  template <int K>
+  void add_element_isotropic(int stencil, int e, const Eigen::Matrix<double, K, K>& coefficients);
   // Adds `block` to the diagonal block of `vertex`.
   void add_vertex_block(int vertex, const Mat3& block);
   // Adds scale * diagonal[i] * I3 to the diagonal block of every vertex i.
@@ -114,6 +118,17 @@ void SparseHessian::add_element_outer(int stencil, int e, double scale, const Ei
         double* row = values + slots[(p * K + q) * 3 + r];
         for (int c = 0; c < 3; ++c) row[c] += scaled[r] * column[c];
       }
+    }
+  }
+}
+
+template <int K>
+void SparseHessian::add_element_isotropic(int stencil, int e, const Eigen::Matrix<double, K, K>& coefficients) {
+  const int* slots = stencil_slots_[stencil].data() + static_cast<size_t>(e) * K * K * 3;
+  double* values = matrix_.valuePtr();
+  for (int a = 0; a < K; ++a) {
+    for (int b = 0; b < K; ++b) {
+      for (int r = 0; r < 3; ++r) values[slots[(a * K + b) * 3 + r] + r] += coefficients(a, b);
     }
   }
 }

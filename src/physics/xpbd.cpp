@@ -161,8 +161,7 @@ void XpbdSolver::sweep(const ClothModel& model, Positions& x, double hs) {
     for (Eigen::Index e = 0; e < model.bending.hinges.cols(); ++e) {
       const Eigen::Vector4i hinge = model.bending.hinges.col(e);
       const int v[4] = {hinge[0], hinge[1], hinge[2], hinge[3]};
-      const double energy = hinge_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]),
-                                                 model.bending.rest[e], model.bending.stiffness, &gradient, nullptr);
+      const double energy = bending_element_energy(model.bending, static_cast<int>(e), x, &gradient);
       project_element<4>(v, energy, gradient, w, alpha_tilde, hinge_lambda_[e], x);
     }
   }

@@ -7,6 +7,7 @@
 #include "collision/collider.hpp"
 #include "core/mesh_generators.hpp"
 #include "physics/adaptive_stepping.hpp"
+#include "physics/bending.hpp"
 #include "physics/implicit_euler.hpp"
 #include "physics/xpbd.hpp"
 #include "physics/integrator.hpp"
@@ -74,6 +75,7 @@ struct ClothDesc {
   double plastic_flow = 0.0;      // fraction of the excess absorbed per step (0: elastic)
   bool bending = false;
   double bending_stiffness = 5e-5;  // J
+  BendingModel bending_model = BendingModel::dihedral;
   double normal_drag = 0.0;       // kg/(m^2 s)
   double tangential_drag = 0.0;   // kg/(m^2 s)
   bool pressure = false;

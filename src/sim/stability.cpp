@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "physics/air_drag.hpp"
-#include "physics/hinge_bending.hpp"
+#include "physics/bending.hpp"
 #include "physics/membrane_stvk.hpp"
 #include "physics/volume_pressure.hpp"
 
@@ -50,7 +50,7 @@ void blame_term(const Cloth& cloth, int vertex, const Vec3& gravity, Instability
   }
   if (model.bending.enabled()) {
     gradient.setZero();
-    evaluate_hinge_bending(model.bending, x, &gradient, nullptr, -1, false);
+    evaluate_bending(model.bending, x, &gradient, nullptr, -1, false);
     terms.push_back({"bending", -gradient.col(vertex)});
   }
   if (model.pressure.enabled) {

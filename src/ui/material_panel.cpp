@@ -66,6 +66,7 @@ void draw_material_panel(SimulationSession& session) {
       }
       if (model.bending.enabled()) {
         changed |= log_slider("bending stiffness (J)", material.bending_stiffness, 1e-8f, 1.0f, "%.3g");
+        ImGui::TextDisabled("bending model: %s (docs/scenes.md)", to_string(model.bending.model));
       }
       if (model.air_drag.enabled()) {
         changed |= log_slider("normal drag (kg/m^2 s)", material.normal_drag, 1e-4f, 10.0f, "%.3g");

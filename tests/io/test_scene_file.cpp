@@ -73,6 +73,11 @@ TEST(SceneFile, WrongTypesNameWhatWasExpected) {
                      "expected one of \"symplectic_euler\", \"midpoint_euler_cromer\", \"explicit_midpoint\", \"implicit_euler\"");
   expect_scene_error(minimal_scene, {"cloths={}"}, "/cloths", "expected an array of cloths");
   expect_scene_error(minimal_scene, {"colliders.0.type=cone"}, "/colliders/0/type", "expected one of");
+  expect_scene_error(minimal_scene, {R"(cloths.0.bending={"model": "cubic"})"}, "/cloths/0/bending/model",
+                     "expected one of \"dihedral\", \"quadratic\"");
+  expect_scene_error(minimal_scene,
+                     {R"(cloths.0={"sphere": {"radius": 0.2, "slices": 12, "stacks": 6}, "bending": {"model": "quadratic"}})"},
+                     "/cloths/0/bending/model", "needs a flat rest mesh");
 }
 
 TEST(SceneFile, OutOfRangeValuesAreRejected) {

@@ -23,9 +23,9 @@ namespace weft {
 namespace {
 
 // A 5x5 grid with springs (and their damping), a plain StVK membrane (compression factor 1,
-// so the energy is C2 and the Hessian test is exact), hinge bending and air drag.
-ClothModel every_term_model() {
-  const auto document = nlohmann::json::parse(R"({
+// so the energy is C2 and the Hessian test is exact), hinge bending in the given model and air drag.
+ClothModel every_term_model(const std::string& bending_model = "dihedral") {
+  auto document = nlohmann::json::parse(R"({
     "wind": [0.3, -0.2, 1.0],
     "cloths": [{
       "grid": {"size": [1, 0.8], "resolution": [5, 5], "triangulation": "alternating"},
@@ -38,6 +38,7 @@ ClothModel every_term_model() {
       "air_drag": {"normal": 2.0, "tangential": 0.5}
     }]
   })");
+  document["cloths"][0]["bending"]["model"] = bending_model;
   World world = build_world(parse_scene(document, "<inline>"));
   return world.cloths()[0].model;
 }
@@ -71,37 +72,41 @@ void expect_second_order(Remainder remainder, double eps0, const char* what) {
 }
 
 TEST(ClothTerms, AssembledPotentialGradientAndHessianTaylorTest) {
-  const ClothModel model = every_term_model();
-  ASSERT_TRUE(model.membrane.enabled());
-  ASSERT_TRUE(model.bending.enabled());
-  ASSERT_GT(model.springs.size(), 0);
-  const Vec3 gravity(0.0, -9.81, 0.0);
-  SparseHessian hessian;
-  HessianStencils stencils;
-  prepare_hessian(model, hessian, stencils);
-  std::mt19937 rng(5);
-  for (int trial = 0; trial < 3; ++trial) {
-    const Positions x = perturbed(model.rest_positions, 0.03, rng);
-    const Positions d = perturbed(Positions::Zero(3, x.cols()), 1.0, rng);
-    Positions gradient = Positions::Zero(3, x.cols());
-    hessian.set_zero();
-    const double energy = evaluate_potential(model, gravity, x, &gradient, &hessian, stencils, /*project=*/false);
-    hessian.finish_assembly();
-    const Positions hd = times(hessian, d);
-    expect_second_order(
-        [&](double eps) {
-          const Positions y = x + eps * d;
-          return std::abs(evaluate_potential(model, gravity, y, nullptr, nullptr, stencils, false) - energy -
-                          eps * dot(gradient, d));
-        },
-        1e-2, "energy against gradient");
-    expect_second_order(
-        [&](double eps) {
-          Positions g = Positions::Zero(3, x.cols());
-          evaluate_potential(model, gravity, x + eps * d, &g, nullptr, stencils, false);
-          return (g - gradient - eps * hd).norm();
-        },
-        1e-2, "gradient against Hessian");
+  for (const std::string bending_model : {"dihedral", "quadratic"}) {
+    SCOPED_TRACE(bending_model);
+    const ClothModel model = every_term_model(bending_model);
+    ASSERT_TRUE(model.membrane.enabled());
+    ASSERT_TRUE(model.bending.enabled());
+    ASSERT_GT(model.springs.size(), 0);
+    const Vec3 gravity(0.0, -9.81, 0.0);
+    SparseHessian hessian;
+    HessianStencils stencils;
+    prepare_hessian(model, hessian, stencils);
+    std::mt19937 rng(5);
+    for (int trial = 0; trial < 3; ++trial) {
+      const Positions x = perturbed(model.rest_positions, 0.03, rng);
+      const Positions d = perturbed(Positions::Zero(3, x.cols()), 1.0, rng);
+      Positions gradient = Positions::Zero(3, x.cols());
+      hessian.set_zero();
+      const double energy =
+          evaluate_potential(model, gravity, x, &gradient, &hessian, stencils, /*project=*/false);
+      hessian.finish_assembly();
+      const Positions hd = times(hessian, d);
+      expect_second_order(
+          [&](double eps) {
+            const Positions y = x + eps * d;
+            return std::abs(evaluate_potential(model, gravity, y, nullptr, nullptr, stencils, false) -
+                            energy - eps * dot(gradient, d));
+          },
+          1e-2, "energy against gradient");
+      expect_second_order(
+          [&](double eps) {
+            Positions g = Positions::Zero(3, x.cols());
+            evaluate_potential(model, gravity, x + eps * d, &g, nullptr, stencils, false);
+            return (g - gradient - eps * hd).norm();
+          },
+          1e-2, "gradient against Hessian");
+    }
   }
 }
 
@@ -246,30 +251,34 @@ TEST(ClothTerms, DissipationPotentialTaylorTestAndDampingForce) {
 }
 
 TEST(ClothTerms, ProjectedHessianIsSymmetricPositiveSemiDefinite) {
-  const ClothModel model = every_term_model();
-  SparseHessian hessian;
-  HessianStencils stencils;
-  prepare_hessian(model, hessian, stencils);
-  std::mt19937 rng(17);
-  for (int trial = 0; trial < 3; ++trial) {
-    const Positions x = perturbed(model.rest_positions, 0.1, rng);  // large: compressed and folded elements
-    hessian.set_zero();
-    evaluate_potential(model, Vec3::Zero(), x, nullptr, &hessian, stencils, /*project=*/true);
-    hessian.finish_assembly();
-    const Eigen::MatrixXd dense = Eigen::MatrixXd(hessian.matrix());
-    EXPECT_LT((dense - dense.transpose()).norm(), 1e-12 * dense.norm());
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(dense);
-    EXPECT_GT(eigen.eigenvalues().minCoeff(), -1e-9 * eigen.eigenvalues().maxCoeff());
+  for (const std::string bending_model : {"dihedral", "quadratic"}) {
+    SCOPED_TRACE(bending_model);
+    const ClothModel model = every_term_model(bending_model);
+    SparseHessian hessian;
+    HessianStencils stencils;
+    prepare_hessian(model, hessian, stencils);
+    std::mt19937 rng(17);
+    for (int trial = 0; trial < 3; ++trial) {
+      const Positions x = perturbed(model.rest_positions, 0.1, rng);  // large: compressed and folded elements
+      hessian.set_zero();
+      evaluate_potential(model, Vec3::Zero(), x, nullptr, &hessian, stencils, /*project=*/true);
+      hessian.finish_assembly();
+      const Eigen::MatrixXd dense = Eigen::MatrixXd(hessian.matrix());
+      EXPECT_LT((dense - dense.transpose()).norm(), 1e-12 * dense.norm());
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(dense);
+      EXPECT_GT(eigen.eigenvalues().minCoeff(), -1e-9 * eigen.eigenvalues().maxCoeff());
+    }
   }
 }
 
-// A model with the hinge bending term alone (springs and membrane off).
-ClothModel bending_only_model() {
-  const auto document = nlohmann::json::parse(R"({"cloths": [{
+// A model with the hinge bending term alone (springs and membrane off), in the given model.
+ClothModel bending_only_model(const std::string& bending_model) {
+  auto document = nlohmann::json::parse(R"({"cloths": [{
       "grid": {"size": [1, 0.8], "resolution": [6, 5], "triangulation": "alternating"},
       "springs": {"structural": {"stiffness": 0, "damping": 0}, "shear": {"stiffness": 0, "damping": 0},
                   "bend": {"stiffness": 0, "damping": 0}},
       "bending": {"stiffness": 1e-2}}]})");
+  document["cloths"][0]["bending"]["model"] = bending_model;
   World world = build_world(parse_scene(document, "<inline>"));
   return world.cloths()[0].model;
 }
@@ -300,22 +309,32 @@ Positions rotation(const Positions& x, const Vec3& omega) {
 
 // Every Hessian approximation the solver uses (here: element-wise PSD projection, the hinges'
 // Gauss-Newton form) leaves rigid motion free: translations at any configuration, rotations at
-// the stress-free rest shape, and for the hinges (whose angle no rigid motion changes) rotations
-// at any configuration. A matrix that stiffens rigid motion makes Newton's steps too short on
-// small or fine cloth, which then stays frozen in the air.
+// the stress-free rest shape, and for the dihedral hinges (whose angle no rigid motion changes)
+// rotations at any configuration. A matrix that stiffens rigid motion makes Newton's steps too
+// short on small or fine cloth, which then stays frozen in the air. The quadratic model's Hessian
+// is exact, not an approximation: constant, so it leaves translations free everywhere and
+// rotations at the flat rest shape, where its curvature vectors vanish (elsewhere it is the true
+// second derivative along a linearised rotation).
 TEST(ClothTerms, ApproximateHessiansLeaveRigidMotionFree) {
   std::mt19937 rng(41);
-  const ClothModel model = every_term_model();
-  const ClothModel bending = bending_only_model();
+  const ClothModel dihedral_bending = bending_only_model("dihedral");
+  const ClothModel quadratic_bending = bending_only_model("quadratic");
   for (int trial = 0; trial < 3; ++trial) {
     const Vec3 t = Vec3(perturbed(Positions::Zero(3, 1), 1.0, rng).col(0));
     const Vec3 omega = Vec3(perturbed(Positions::Zero(3, 1), 1.0, rng).col(0));
-    const Positions x = perturbed(model.rest_positions, 0.1, rng);  // compressed and folded elements
-    EXPECT_LT(rigid_leak(model, x, translation(x, t)), 1e-12) << trial;
-    EXPECT_LT(rigid_leak(model, model.rest_positions, rotation(model.rest_positions, omega)), 1e-12) << trial;
-    const Positions folded = perturbed(bending.rest_positions, 0.1, rng);
-    EXPECT_LT(rigid_leak(bending, folded, translation(folded, t)), 1e-12) << trial;
-    EXPECT_LT(rigid_leak(bending, folded, rotation(folded, omega)), 1e-12) << trial;
+    for (const std::string bending_model : {"dihedral", "quadratic"}) {
+      const ClothModel model = every_term_model(bending_model);
+      const Positions x = perturbed(model.rest_positions, 0.1, rng);  // compressed and folded elements
+      EXPECT_LT(rigid_leak(model, x, translation(x, t)), 1e-12) << bending_model << " " << trial;
+      EXPECT_LT(rigid_leak(model, model.rest_positions, rotation(model.rest_positions, omega)), 1e-12)
+          << bending_model << " " << trial;
+    }
+    const Positions folded = perturbed(dihedral_bending.rest_positions, 0.1, rng);
+    EXPECT_LT(rigid_leak(dihedral_bending, folded, translation(folded, t)), 1e-12) << trial;
+    EXPECT_LT(rigid_leak(dihedral_bending, folded, rotation(folded, omega)), 1e-12) << trial;
+    EXPECT_LT(rigid_leak(quadratic_bending, folded, translation(folded, t)), 1e-12) << trial;
+    const Positions& rest = quadratic_bending.rest_positions;
+    EXPECT_LT(rigid_leak(quadratic_bending, rest, rotation(rest, omega)), 1e-12) << trial;
   }
 }
 

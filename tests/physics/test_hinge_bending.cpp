@@ -13,6 +13,7 @@
 #include "core/mesh_generators.hpp"
 #include "core/topology.hpp"
 #include "physics/psd_projection.hpp"
+#include "physics/sparse_hessian.hpp"
 #include "support/taylor.hpp"
 
 namespace weft {
