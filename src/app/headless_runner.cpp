@@ -370,8 +370,8 @@ int Run::record_and_step() {
 
   install_stop_handlers();
   ProgressReporter progress(scene_.frames, !options_.quiet);
-  int unconverged_steps = 0;
-  double worst_residual = 0.0;
+  // A resumed run's line counts from the frames already recorded.
+  progress.add_unconverged_steps(summarise(stats_rows_, "", 0, scene_.frames)["unconverged_steps"].get<int>());
   if (first_frame_ == 0) record(0, StepStats{}, Clock::now());
   for (int frame = std::max(1, first_frame_); frame <= scene_.frames; ++frame) {
     if (stop_requested) break;
@@ -425,11 +425,13 @@ int Run::record_and_step() {
     }
     record(frame, frame_steps, frame_start);
     progress.add_unconverged_steps(frame_steps.unconverged_steps);
-    unconverged_steps += frame_steps.unconverged_steps;
-    worst_residual = std::max(worst_residual, frame_steps.residual);
     progress.update(frame);
   }
   progress.finish(frames_written_ - 1);
+  // Over the whole run, resumed or not: the figures summary.json gives.
+  const nlohmann::json totals = summarise(stats_rows_, "", 0, scene_.frames);
+  const int unconverged_steps = totals["unconverged_steps"].get<int>();
+  const double worst_residual = totals["newton_residual_max"].get<double>();
   if (unconverged_steps > 0) {
     std::fprintf(stderr,
                  "weft: %d implicit Euler steps ended unconverged (largest residual %.3g m/s against the "

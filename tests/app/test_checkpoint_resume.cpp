@@ -87,6 +87,27 @@ TEST(CheckpointResume, KilledRunResumesBitIdentically) {
   EXPECT_FALSE(has_temporary_files(killed));
 }
 
+// The closing line of a resumed run counts the steps that ended unconverged over the whole run,
+// as summary.json does, not only over the frames run since the resume.
+TEST(CheckpointResume, TheUnconvergedCountCoversTheWholeRun) {
+  TempDir dir("weft_resume_unconverged");
+  const fs::path out = dir.path() / "run";
+  const auto first = run_program(
+      drape(out, 14, {"--checkpoint-every", "7", "--set", "solver.newton.max_iterations=2"}), dir.file("a.txt"));
+  ASSERT_EQ(first.exit_code, 0) << first.error_text;
+  const int before = read_json(out / "summary.json")["unconverged_steps"].get<int>();
+  ASSERT_GT(before, 0) << "the drape's contact steps should not converge in two Newton iterations";
+
+  const auto resumed = run_program({weft_program, "--headless", "--resume", out.string(), "--quiet", "--frames", "18"},
+                                   dir.file("b.txt"));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.error_text;
+  const int total = read_json(out / "summary.json")["unconverged_steps"].get<int>();
+  EXPECT_GT(total, before);
+  EXPECT_NE(resumed.error_text.find("weft: " + std::to_string(total) + " implicit Euler steps ended unconverged"),
+            std::string::npos)
+      << resumed.error_text;
+}
+
 TEST(CheckpointResume, ADifferentSceneOrADamagedCheckpointIsRefused) {
   TempDir dir("weft_resume_refused");
   const fs::path out = dir.path() / "run";
