@@ -14,15 +14,19 @@
 #include "core/topology.hpp"
 #include "physics/psd_projection.hpp"
 #include "physics/sparse_hessian.hpp"
+#include "support/hinge_stencil.hpp"
 #include "support/taylor.hpp"
 
 namespace weft {
 namespace {
 
 using weft::testing::all_near_quarter;
+using weft::testing::expect_no_net_force_or_torque;
+using weft::testing::expect_rigid_motion_invariance;
 using weft::testing::halving_ratios;
+using weft::testing::random_rotation;
 
-Vec3 at(const Vector12d& q, int i) { return q.segment<3>(3 * i); }
+Vec3 at(const Vector12d& q, int i) { return weft::testing::stencil_vertex(q, i); }
 
 double energy_of(const Vector12d& q, const HingeRest& rest, double stiffness, Vector12d* gradient = nullptr,
                  Matrix12d* hessian = nullptr) {
@@ -32,12 +36,6 @@ double energy_of(const Vector12d& q, const HingeRest& rest, double stiffness, Ve
 double angle_of(const Vector12d& q) { return dihedral_angle(at(q, 0), at(q, 1), at(q, 2), at(q, 3)); }
 
 HingeRest rest_of(const Vector12d& q) { return hinge_rest(at(q, 0), at(q, 1), at(q, 2), at(q, 3)); }
-
-Mat3 random_rotation(std::mt19937& rng) {
-  std::normal_distribution<double> normal;
-  const Eigen::Quaterniond q(normal(rng), normal(rng), normal(rng), normal(rng));
-  return q.normalized().toRotationMatrix();
-}
 
 // Edge (0,0,0)-(1,0,0), x2 above it in the XY plane, x3 below it rotated by `fold` about +x
 // (theta = fold without noise), each coordinate jittered by up to `noise`, then moved rigidly.
@@ -194,30 +192,13 @@ TEST(HingeBending, RigidMotionInvariantWithoutNetForceOrTorque) {
   for (int trial = 0; trial < 10; ++trial) {
     const Vector12d q = folded_hinge(fold(rng), 0.2, rng);
     const HingeRest rest = rest_of(folded_hinge(0.3, 0.2, rng));
+    const auto energy = [&](const Vector12d& y, Vector12d* gradient) {
+      return energy_of(y, rest, stiffness, gradient);
+    };
     Vector12d gradient;
-    const double energy = energy_of(q, rest, stiffness, &gradient);
-    ASSERT_GT(energy, 0.0);
-
-    Vec3 net_force = Vec3::Zero(), net_torque = Vec3::Zero();
-    double scale = 0.0;
-    for (int i = 0; i < 4; ++i) {
-      net_force += gradient.segment<3>(3 * i);
-      net_torque += at(q, i).cross(gradient.segment<3>(3 * i));
-      scale += at(q, i).norm() * gradient.segment<3>(3 * i).norm();
-    }
-    EXPECT_LE(net_force.norm(), 1e-12 * gradient.norm());
-    EXPECT_LE(net_torque.norm(), 1e-12 * scale);
-
-    const Mat3 rotation = random_rotation(rng);
-    const Vec3 shift = Vec3::Random();
-    Vector12d moved;
-    for (int i = 0; i < 4; ++i) moved.segment<3>(3 * i) = rotation * at(q, i) + shift;
-    Vector12d moved_gradient;
-    EXPECT_NEAR(energy_of(moved, rest, stiffness, &moved_gradient), energy, 1e-12 * energy);
-    for (int i = 0; i < 4; ++i) {
-      EXPECT_LE((moved_gradient.segment<3>(3 * i) - rotation * gradient.segment<3>(3 * i)).norm(),
-                1e-10 * gradient.norm());
-    }
+    ASSERT_GT(energy(q, &gradient), 0.0);
+    expect_no_net_force_or_torque(q, gradient);
+    expect_rigid_motion_invariance(q, random_rotation(rng), Vec3::Random(), energy);
   }
 }
 
