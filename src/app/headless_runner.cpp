@@ -141,6 +141,17 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
 }
 
 // A scene as its resolved JSON without "frames", which a resumed run may change.
+// A checkpoint's scene as this version writes it, so that keys added since the checkpoint was
+// written compare at their defaults (a checkpoint from before `bending.model` ran the dihedral
+// model, which is the default). A scene this version cannot read is compared as written.
+nlohmann::json in_current_form(const nlohmann::json& scene, const std::string& source) {
+  try {
+    return scene_to_json(parse_scene(scene, source));
+  } catch (const SceneError&) {
+    return scene;
+  }
+}
+
 nlohmann::json comparable_scene(nlohmann::json scene) {
   scene = simulated_part(std::move(scene));
   scene.erase("frames");
@@ -233,7 +244,8 @@ int Run::load() {
   world_.settings.adapt_threads = !options_.fixed_threads;
   scene_json_ = scene_to_json(scene_).dump();
   if (resuming) {
-    const nlohmann::json saved = comparable_scene(nlohmann::json::parse(checkpoint_.scene_json));
+    const nlohmann::json saved = comparable_scene(
+        in_current_form(nlohmann::json::parse(checkpoint_.scene_json), (out_ / checkpoint_file).string()));
     const nlohmann::json now = comparable_scene(nlohmann::json::parse(scene_json_));
     if (saved != now) {
       const nlohmann::json patch = nlohmann::json::diff(saved, now);

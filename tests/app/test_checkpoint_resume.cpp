@@ -10,6 +10,9 @@
 #include <fstream>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
+#include "io/checkpoint.hpp"
 #include "support/files.hpp"
 #include "support/run_program.hpp"
 #include "support/temp_dir.hpp"
@@ -106,6 +109,26 @@ TEST(CheckpointResume, TheUnconvergedCountCoversTheWholeRun) {
   EXPECT_NE(resumed.error_text.find("weft: " + std::to_string(total) + " implicit Euler steps ended unconverged"),
             std::string::npos)
       << resumed.error_text;
+}
+
+// A checkpoint written before a scene key existed (here `bending.model`, added 2026-11-26) resumes:
+// the missing key compares at its default, which is what the run used.
+TEST(CheckpointResume, ACheckpointFromBeforeANewSceneKeyResumes) {
+  TempDir dir("weft_resume_older");
+  const fs::path out = dir.path() / "run";
+  ASSERT_EQ(run_program(drape(out, 8, {"--checkpoint-every", "4"}), dir.file("a.txt")).exit_code, 0);
+  const std::string path = (out / "checkpoint.bin").string();
+  Checkpoint checkpoint = read_checkpoint(path);
+  nlohmann::json scene = nlohmann::json::parse(checkpoint.scene_json);
+  ASSERT_TRUE(scene["cloths"][0]["bending"].contains("model"));
+  scene["cloths"][0]["bending"].erase("model");
+  checkpoint.scene_json = scene.dump();
+  write_checkpoint(path, checkpoint);
+
+  const auto resumed =
+      run_program({weft_program, "--headless", "--resume", out.string(), "--quiet", "--frames", "10"}, dir.file("b.txt"));
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.error_text;
+  EXPECT_EQ(read_json(out / "summary.json")["frames_written"], 11);
 }
 
 TEST(CheckpointResume, ADifferentSceneOrADamagedCheckpointIsRefused) {
