@@ -7,9 +7,8 @@
 // Dihedral is the default: on the 64x64 drape the quadratic model, whose restoring moment
 // 2 k w sin(theta) fades past 90 degrees, let creases fold shut (7 hinges past 170 degrees at the
 // end against none) and the collision response then stretched triangles (largest strain 1.17
-// against 0.78, docs/performance.md). Scenes whose solves stall on collapsing wings (the twists)
-// ask for quadratic.
-#include <string>
+// against 0.78, docs/performance.md). Scenes whose solves stall on collapsing wings ask for
+// quadratic (the twists and the tumble dryer).
 #include <vector>
 
 #include "core/math.hpp"
