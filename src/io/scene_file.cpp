@@ -439,6 +439,22 @@ Collider read_collider(const json& value, const std::string& path, const std::st
   return collider;
 }
 
+// Implicit Euler's Newton solve starts from the inertial predictor, whose residual under gravity
+// alone is |gravity| h (m/s). A tolerance at or above it accepts that start: the cloth never
+// falls, every step reported converged. Checked for the scene's own step (an adaptive run's
+// smaller steps are not).
+void check_newton_tolerance(const ObjectReader& reader, const SceneDesc& scene) {
+  if (scene.integrator != IntegratorKind::implicit_euler) return;
+  const double h = scene.time_step / scene.substeps;
+  const double gravity_velocity = scene.gravity.norm() * h;
+  if (!(scene.implicit.newton_tolerance >= gravity_velocity) || gravity_velocity == 0.0) return;
+  std::ostringstream message;
+  message << std::setprecision(4) << "expected a tolerance below " << gravity_velocity
+          << " m/s, the velocity gravity adds in one step of " << h << " s (a cloth at rest would meet "
+          << "the tolerance without moving), got " << scene.implicit.newton_tolerance;
+  reader.fail("/solver/newton/tolerance", message.str());
+}
+
 // A frame must fit in max_steps_per_frame integration sub-steps: a run asking for more could not
 // finish (1e-12 s steps are 3e10 a frame), so it is refused before anything is built.
 void check_steps_per_frame(const ObjectReader& reader, const SceneDesc& scene) {
@@ -528,6 +544,7 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
   reader.number("fps", scene.fps, Range{min_fps, max_fps, false, " in [1, 10000]"});
   reader.integer("frames", scene.frames, 0, max_frames);
   check_steps_per_frame(reader, scene);
+  check_newton_tolerance(reader, scene);
   if (const json* cloths = reader.find("cloths")) {
     if (!cloths->is_array()) reader.fail("/cloths", "expected an array of cloths, got " + type_name(*cloths));
     for (size_t k = 0; k < cloths->size(); ++k) {

@@ -430,7 +430,7 @@ TEST(Sweep, BadSweepOrCaseIsRefusedBeforeAnythingRuns) {
   TempDir dir("weft_sweep_bad");
   const std::string path = dir.file("bad.json");
   std::ofstream(path) << R"({"scene": ")" << source_dir
-                      << R"(/scenes/drape_sphere.json", "grid": {"solver.time_step": [0.001, -1]}})";
+                      << R"(/scenes/drape_sphere.json", "grid": {"solver.time_step": [0.002, -1]}})";
   const fs::path out = dir.path() / "out";
   auto result = run_program({weft_program, "sweep", path, "--out", out.string()}, dir.file("log.txt"));
   EXPECT_EQ(result.exit_code, 2);

@@ -99,6 +99,34 @@ TEST(SceneFile, OutOfRangeValuesAreRejected) {
                      "expected one of");
 }
 
+TEST(SceneFile, ANewtonToleranceThatTheRestingStartMeetsIsRefused) {
+  // At h = 1/240 gravity adds 9.81 / 240 = 0.0409 m/s a step, the residual of Newton's start;
+  // a tolerance at or above it froze the drape (0 Newton iterations, every step "converged").
+  const std::vector<std::string> implicit = {"solver.integrator=\"implicit_euler\"",
+                                             "solver.time_step=0.004166666666666667"};
+  auto with = [&](const std::string& more) {
+    std::vector<std::string> overrides = implicit;
+    overrides.push_back(more);
+    return overrides;
+  };
+  expect_scene_error(minimal_scene, with("solver.newton.tolerance=0.05"), "/solver/newton/tolerance",
+                     "expected a tolerance below 0.04088 m/s");
+  // Substeps shorten the step the solve takes.
+  std::vector<std::string> substeps = with("solver.newton.tolerance=0.03");
+  substeps.push_back("solver.substeps=2");
+  expect_scene_error(minimal_scene, substeps, "/solver/newton/tolerance", "below 0.02044 m/s");
+  // Below it, or without gravity, or with an integrator that has no Newton solve, it parses.
+  json document = json::parse(minimal_scene);
+  for (const auto& assignment : with("solver.newton.tolerance=0.03")) apply_override(document, assignment, "s");
+  EXPECT_NO_THROW(parse_scene(document, "s"));
+  apply_override(document, "solver.newton.tolerance=0.05", "s");
+  apply_override(document, "gravity=[0,0,0]", "s");
+  EXPECT_NO_THROW(parse_scene(document, "s"));
+  apply_override(document, "gravity=[0,-9.81,0]", "s");
+  apply_override(document, "solver.integrator=\"xpbd\"", "s");
+  EXPECT_NO_THROW(parse_scene(document, "s"));
+}
+
 TEST(SceneFile, XpbdKeysAreReadCheckedAndRoundTrip) {
   json document = json::parse(minimal_scene);
   apply_override(document, "solver.integrator=xpbd", "scene.json");
