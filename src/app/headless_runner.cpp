@@ -140,7 +140,6 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
   return summary;
 }
 
-// A scene as its resolved JSON without "frames", which a resumed run may change.
 // A checkpoint's scene as this version writes it, so that keys added since the checkpoint was
 // written compare at their defaults (a checkpoint from before `bending.model` ran the dihedral
 // model, which is the default). A scene this version cannot read is compared as written.
@@ -152,6 +151,7 @@ nlohmann::json in_current_form(const nlohmann::json& scene, const std::string& s
   }
 }
 
+// A scene as its resolved JSON without "frames", which a resumed run may change.
 nlohmann::json comparable_scene(nlohmann::json scene) {
   scene = simulated_part(std::move(scene));
   scene.erase("frames");

@@ -28,7 +28,7 @@ BendingTerm make_bending_term(const MeshTopology& topology, const Positions& res
     }
     term.rest.push_back(rest);
     term.quadratic.push_back(quadratic);
-    largest_rest_angle = std::max(largest_rest_angle, std::abs(term.rest.back().rest_angle));
+    largest_rest_angle = std::max(largest_rest_angle, std::abs(rest.rest_angle));
     term.hinges.col(kept++) = hinge;
   }
   term.hinges.conservativeResize(4, kept);
@@ -61,6 +61,11 @@ double bending_element_energy(const BendingTerm& term, int h, const Positions& x
 
 namespace {
 
+// Adds a hinge's 12-entry gradient to its four vertices' columns.
+void scatter_gradient(const Eigen::Vector4i& hinge, const Vector12d& element_gradient, Positions& gradient) {
+  for (int k = 0; k < 4; ++k) gradient.col(hinge[k]) += element_gradient.segment<3>(3 * k);
+}
+
 double evaluate_quadratic(const BendingTerm& term, const Positions& x, Positions* gradient, SparseHessian* hessian,
                           int stencil) {
   return term.coloring.sum_over_elements(static_cast<int>(term.hinges.cols()), [&](int h) {
@@ -70,7 +75,7 @@ double evaluate_quadratic(const BendingTerm& term, const Positions& x, Positions
     const double energy = quadratic_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), hinge,
                                                    term.stiffness, gradient ? &element_gradient : nullptr);
     if (gradient) {
-      for (int k = 0; k < 4; ++k) gradient->col(v[k]) += element_gradient.segment<3>(3 * k);
+      scatter_gradient(v, element_gradient, *gradient);
     }
     if (hessian) {
       hessian->add_element_isotropic<4>(stencil, h, quadratic_bending_hessian_coefficients(hinge, term.stiffness));
@@ -87,7 +92,7 @@ double evaluate_dihedral(const BendingTerm& term, const Positions& x, Positions*
       const HingeGaussNewton hinge = hinge_bending_gauss_newton(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]),
                                                                 term.rest[h], term.stiffness);
       if (gradient) {
-        for (int k = 0; k < 4; ++k) gradient->col(v[k]) += hinge.gradient.segment<3>(3 * k);
+        scatter_gradient(v, hinge.gradient, *gradient);
       }
       hessian->add_element_outer<4>(stencil, h, hinge.curvature, hinge.angle_gradient);
       return hinge.energy;
@@ -98,7 +103,7 @@ double evaluate_dihedral(const BendingTerm& term, const Positions& x, Positions*
         hinge_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), term.rest[h], term.stiffness,
                              gradient ? &element_gradient : nullptr, hessian ? &element_hessian : nullptr);
     if (gradient) {
-      for (int k = 0; k < 4; ++k) gradient->col(v[k]) += element_gradient.segment<3>(3 * k);
+      scatter_gradient(v, element_gradient, *gradient);
     }
     if (hessian) hessian->add_element<4>(stencil, h, element_hessian);
     return energy;
