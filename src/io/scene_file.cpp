@@ -439,14 +439,13 @@ Collider read_collider(const json& value, const std::string& path, const std::st
   return collider;
 }
 
-// Implicit Euler's Newton solve starts from the inertial predictor, whose residual under gravity
-// alone is |gravity| h (m/s). A tolerance at or above it accepts that start: the cloth never
-// falls, every step reported converged. Checked for the scene's own step (an adaptive run's
-// smaller steps are not).
+// Implicit Euler's tolerance must lie below resting_start_residual() (implicit_euler.hpp), or a
+// cloth at rest never moves. Checked for the scene's own step (an adaptive run's smaller steps
+// are not).
 void check_newton_tolerance(const ObjectReader& reader, const SceneDesc& scene) {
   if (scene.integrator != IntegratorKind::implicit_euler) return;
   const double h = scene.time_step / scene.substeps;
-  const double gravity_velocity = scene.gravity.norm() * h;
+  const double gravity_velocity = resting_start_residual(scene.gravity, h);
   if (!(scene.implicit.newton_tolerance >= gravity_velocity) || gravity_velocity == 0.0) return;
   std::ostringstream message;
   message << std::setprecision(4) << "expected a tolerance below " << gravity_velocity

@@ -13,6 +13,8 @@ double newton_residual(const Positions& gradient, const Eigen::VectorXd& inverse
   return h * largest;
 }
 
+double resting_start_residual(const Vec3& gravity, double h) { return gravity.norm() * h; }
+
 void ImplicitEulerSolver::prepare(const ClothModel& model) {
   num_vertices_ = static_cast<int>(model.rest_positions.cols());
   prepare_hessian(model, hessian_, stencils_);

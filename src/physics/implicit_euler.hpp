@@ -60,6 +60,12 @@ struct NewtonReport {
 // force on vertex i would cause over the step. Zero exactly at the implicit Euler solution.
 double newton_residual(const Positions& gradient, const Eigen::VectorXd& inverse_mass, double h);
 
+// newton_residual() at the start of a step (the inertial predictor) of a cloth at rest in its rest
+// shape, under gravity alone: |gravity| h. A newton_tolerance at or above it accepts that start
+// with no iteration, so the cloth never moves while every step reports convergence; the scene
+// file refuses such a tolerance and the viewer's Solver panel warns.
+double resting_start_residual(const Vec3& gravity, double h);
+
 // Preallocated storage for one cloth's implicit steps; the sparsity pattern is built on first use.
 class ImplicitEulerSolver {
  public:

@@ -48,12 +48,13 @@ void draw_solver_panel(SimulationSession& session) {
 
   if (ImGui::TreeNodeEx("Newton (implicit Euler)", ImGuiTreeNodeFlags_DefaultOpen)) {
     input_double("tolerance (m/s)", settings.implicit.newton_tolerance, 1e-12, "%.2e");
-    // The start of a step already meets a tolerance at or above |g| h (scene_file.cpp refuses it
-    // in a scene file; here h and the tolerance change live).
-    const double gravity_velocity = settings.gravity.norm() * settings.time_step / settings.substeps;
+    // At or above resting_start_residual() a cloth at rest never moves; the scene file refuses
+    // such a tolerance, here h and the tolerance change live.
+    const double gravity_velocity =
+        resting_start_residual(settings.gravity, settings.time_step / settings.substeps);
     if (gravity_velocity > 0.0 && settings.implicit.newton_tolerance >= gravity_velocity) {
-      ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.2f, 1.0f), "at or above |g| h = %.2e m/s: cloth at rest will not move",
-                         gravity_velocity);
+      ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.2f, 1.0f),
+                         "at or above |g| h = %.2e m/s: cloth at rest will not move", gravity_velocity);
     }
     ImGui::SliderInt("max iterations", &settings.implicit.max_newton_iterations, 1, 100);
     int solver = settings.implicit.linear_solver == LinearSolverKind::cholesky ? 1 : 0;
