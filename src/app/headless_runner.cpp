@@ -37,7 +37,7 @@ constexpr const char* stats_header =
     "collisions_ms,rest_update_ms,record_ms,wall_ms,steps,broad_phase_ms,narrow_phase_ms,response_ms,step_ms,"
     "vertex_face_candidates,edge_edge_candidates,proximity_contacts,ccd_impulses,impact_zone_vertices,"
     "collisions_clean,strain_limited_edges,newton_residual,unconverged_steps,external_work,dissipated_damping,"
-    "dissipated_integrator,dissipated_contact,dissipated_plastic,budget_error";
+    "dissipated_integrator,dissipated_contact,dissipated_plastic,budget_error,threads";
 
 volatile std::sig_atomic_t stop_requested = 0;
 extern "C" void request_stop(int) { stop_requested = 1; }
@@ -74,7 +74,8 @@ std::string stats_line(int frame, double time, const Energies& e, double initial
       << ',' << s.edge_edge_candidates << ',' << s.proximity_contacts << ',' << s.ccd_impulses << ','
       << s.impact_zone_vertices << ',' << (s.collisions_clean ? 1 : 0) << ',' << s.strain_limited_edges << ','
       << s.residual << ',' << s.unconverged_steps << ',' << flows.external_work << ',' << flows.damping << ','
-      << flows.integrator << ',' << flows.contact << ',' << flows.plastic << ',' << budget_error;
+      << flows.integrator << ',' << flows.contact << ',' << flows.plastic << ',' << budget_error << ','
+      << (s.steps > 0 ? static_cast<double>(s.thread_steps) / s.steps : 0.0);
   return out.str();
 }
 

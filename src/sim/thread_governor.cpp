@@ -11,46 +11,60 @@ void ThreadGovernor::set_requested(int requested) {
   current_ = requested;
   phase_ = Phase::run;
   wait_ = first_probe_after;
-  steps_until_probe_ = first_probe_after;
-  recent_count_ = 0;
+  steps_since_probe_ = 0;
   probe_count_ = 0;
-  after_count_ = 0;
-}
-
-double ThreadGovernor::median(Window values) {
-  std::nth_element(values.begin(), values.begin() + probe_steps / 2, values.end());
-  return values[probe_steps / 2];
+  probed_step_time_ = 0.0;
 }
 
 void ThreadGovernor::record(double step_seconds) {
   if (requested_ == 1) return;
-  switch (phase_) {
-    case Phase::run:
-      recent_[recent_count_ % probe_steps] = step_seconds;  // the order within the window is irrelevant
-      ++recent_count_;
-      if (--steps_until_probe_ <= 0 && recent_count_ >= probe_steps) phase_ = Phase::probe;
-      return;
-    case Phase::probe:
-      probe_[probe_count_++] = step_seconds;
-      if (probe_count_ == probe_steps) phase_ = Phase::after_probe;
-      return;
-    case Phase::after_probe:
-      after_[after_count_++] = step_seconds;
-      if (after_count_ < probe_steps) return;
-      break;
+  if (phase_ == Phase::probe) {
+    probe_[probe_count_++] = step_seconds;
+    if (probe_count_ == probe_steps) finish_probe();
+    return;
   }
-  const double current_time = 0.5 * (median(recent_) + median(after_));
-  if (median(probe_) < switch_margin * current_time) {
+  recent_[steps_since_probe_ % regime_window] = step_seconds;  // the order within the ring is irrelevant
+  ++steps_since_probe_;
+  bool regime_changed = false;
+  if (probed_step_time_ > 0.0 && steps_since_probe_ >= std::max(first_probe_after, regime_window)) {
+    std::array<double, regime_window> window = recent_;
+    std::nth_element(window.begin(), window.begin() + regime_window / 2, window.end());
+    const double typical = window[regime_window / 2];
+    regime_changed =
+        typical > regime_factor * probed_step_time_ || regime_factor * typical < probed_step_time_;
+  }
+  if (steps_since_probe_ >= wait_ || regime_changed) {
+    phase_ = Phase::probe;
+    probe_count_ = 0;
+  }
+}
+
+void ThreadGovernor::finish_probe() {
+  std::array<double, probe_blocks> ratios;
+  double current_time = 0.0;
+  for (int b = 0; b < probe_blocks; ++b) {
+    const double* block = probe_.data() + 4 * b;
+    ratios[b] = (block[0] + block[3]) / (block[1] + block[2]);
+    current_time += block[1] + block[2];
+  }
+  std::nth_element(ratios.begin(), ratios.begin() + probe_blocks / 2, ratios.end());
+  const double ratio = ratios[probe_blocks / 2];
+  const bool switch_count = ratio < switch_margin;
+  if (switch_count) {
+    // The other count's mean step time becomes the reference the regime test compares with.
+    current_time = 0.0;
+    for (int k = 0; k < probe_steps; ++k) {
+      if (on_other_count(k)) current_time += probe_[k];
+    }
     current_ = other_count();
     wait_ = first_probe_after;
   } else {
-    wait_ = std::min(2 * wait_, longest_wait);
+    wait_ = std::min((ratio > clear_margin ? 4 : 2) * wait_, longest_wait);
   }
+  probed_step_time_ = current_time / (2 * probe_blocks);
   phase_ = Phase::run;
-  steps_until_probe_ = wait_;
-  recent_count_ = 0;
+  steps_since_probe_ = 0;
   probe_count_ = 0;
-  after_count_ = 0;
 }
 
 }  // namespace weft

@@ -10,51 +10,66 @@
 // sums are added in chunk order), so switching changes how fast a run goes, never what it
 // computes.
 //
-// Probe: `probe_steps` steps on the other count, then `probe_steps` on the current count again;
-// the probe's median step time is compared with the mean of the medians of the windows just
-// before and just after it, so that a trend in the steps' cost (a cloth reaching a collider
-// costs several times more a step within a few frames) cancels to first order. The first probe
-// comes after `first_probe_after` steps; each probe that confirms the current count doubles the
-// wait to the next (up to `longest_wait`), a switch resets it, so a run that never needs to
-// switch spends a few steps in a thousand probing.
+// Probe: `probe_blocks` blocks of four steps, other - current - current - other. A block's
+// ratio is the other count's two step times over the current count's two; a step cost that
+// rises or falls steadily (a cloth reaching a collider costs several times more a step within
+// a few frames) cancels in it exactly, and the median over the blocks ignores a block that a
+// sudden jump falls into. The first probe comes after `first_probe_after` steps; each probe
+// that confirms the current count doubles the wait to the next (quadruples it when the other
+// count was clearly slower; up to `longest_wait`), a switch resets it, so a run that never
+// needs to switch spends a few steps in a thousand probing. Since which count is faster
+// depends on the work a step holds (a free-falling cloth's cheap steps gain little from a
+// second thread), a step cost that has moved by more than `regime_factor` from the one the
+// last probe measured (median of `regime_window` steps) starts a probe at once, no sooner than
+// `first_probe_after` steps after the last; it leaves the wait as it was, so a cost that swings
+// back and forth does not keep the probes frequent.
 #include <array>
 
 namespace weft {
 
 class ThreadGovernor {
  public:
-  static constexpr int probe_steps = 5;
+  static constexpr int probe_blocks = 3;
+  static constexpr int probe_steps = 4 * probe_blocks;  // half of them on the other count
   static constexpr int first_probe_after = 20;
   static constexpr int longest_wait = 2560;
-  // A probe must be this much faster (median step time) to switch: noise does not flip it.
+  // The median block ratio must be below this to switch: noise does not flip it.
   static constexpr double switch_margin = 0.9;
+  // A probe whose median ratio is above this (the other count clearly slower) quadruples the
+  // wait instead of doubling it: a short run does not pay for probes of a settled question.
+  static constexpr double clear_margin = 1.25;
+  static constexpr double regime_factor = 3.0;
+  static constexpr int regime_window = 5;
 
   // `requested` threads (1: the governor never probes).
   void set_requested(int requested);
   int requested() const { return requested_; }
+  // The count the governor runs on between probes.
+  int current() const { return current_; }
   // Threads for the next step.
-  int threads() const { return phase_ == Phase::probe ? other_count() : current_; }
+  int threads() const {
+    return phase_ == Phase::probe && on_other_count(probe_count_) ? other_count() : current_;
+  }
   // Reports the wall time of the step just run on threads().
   void record(double step_seconds);
 
  private:
   int other_count() const { return current_ == 1 ? requested_ : 1; }
-  using Window = std::array<double, probe_steps>;
-  static double median(Window values);
+  // Whether step k of a probe runs on the other count (the first and last of each block).
+  static bool on_other_count(int k) { return k % 4 == 0 || k % 4 == 3; }
+  void finish_probe();
 
-  enum class Phase { run, probe, after_probe };
+  enum class Phase { run, probe };
 
   int requested_ = 1;
   int current_ = 1;
   Phase phase_ = Phase::run;
   int wait_ = first_probe_after;  // steps on current_ before the next probe
-  int steps_until_probe_ = first_probe_after;
-  Window recent_{};  // the last step times on current_ (a ring, recent_count_ filled)
-  int recent_count_ = 0;
-  Window probe_{};  // step times of the probe under way
+  int steps_since_probe_ = 0;
+  std::array<double, probe_steps> probe_{};  // step times of the probe under way
   int probe_count_ = 0;
-  Window after_{};  // step times on current_ after the probe
-  int after_count_ = 0;
+  double probed_step_time_ = 0.0;               // the current count's mean step time in the last probe
+  std::array<double, regime_window> recent_{};  // the last step times on current_ (a ring)
 };
 
 }  // namespace weft

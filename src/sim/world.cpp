@@ -81,6 +81,7 @@ void World::step() {
   }
   stats.total_ms = milliseconds_since(step_start);
   stats.steps = 1;
+  stats.thread_steps = threads;
   stats_ = stats;
   if (settings.adapt_threads) thread_governor_.record(1e-3 * stats.total_ms);
 }
@@ -295,6 +296,7 @@ StepStats& StepStats::operator+=(const StepStats& step) {
   strain_limited_edges += step.strain_limited_edges;
   collisions_clean = collisions_clean && step.collisions_clean;
   yielded_triangles += step.yielded_triangles;
+  thread_steps += step.thread_steps;
   newton_iterations += step.newton_iterations;
   linear_iterations += step.linear_iterations;
   accepted_steps += step.accepted_steps;

@@ -75,6 +75,8 @@ struct StepStats {
   int unconverged_steps = 0;     // implicit Euler: cloth steps that ended with the residual above
                                  // the Newton tolerance (iteration cap, or no descent left)
   int yielded_triangles = 0;     // plasticity: triangles whose rest shape flowed
+  int thread_steps = 0;          // the threads each step ran on, summed (sim/thread_governor.hpp
+                                 // may run fewer than settings.threads)
   EnergyFlows energy_flows;      // the step's energy budget (settings.energy_budget), J
 
   // Sums the counts and times of `step` into this (the residual keeps the largest).

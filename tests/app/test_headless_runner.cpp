@@ -144,6 +144,24 @@ TEST(HeadlessRunner, StatsCarryAnEnergyBudgetThatClosesAcrossAResume) {
   EXPECT_DOUBLE_EQ(summary["energy"]["dissipated_by"]["contact"].get<double>(), rows.back().at("dissipated_contact"));
 }
 
+TEST(HeadlessRunner, TheThreadsColumnShowsTheThreadsTheStepsRanOn) {
+  // Frame 0 ran no step (0); with the governor off every step runs on the requested count.
+  TempDir dir("weft_headless_threads");
+  for (const int threads : {1, 2}) {
+    const fs::path out = dir.path() / ("threads_" + std::to_string(threads));
+    std::vector<std::string> run = {weft_program, "--headless", source_dir + "/scenes/drape_sphere.json",
+                                    "--quiet"};
+    run.insert(run.end(), {"--frames", "2", "--threads", std::to_string(threads), "--fixed-threads"});
+    run.insert(run.end(), {"--set", "cloths.0.grid.resolution=[8,8]", "--out", out.string()});
+    ASSERT_EQ(run_program(run, dir.file("run.txt")).exit_code, 0);
+    const auto rows = read_stats(out / "stats.csv");
+    ASSERT_EQ(rows.size(), 3u);
+    EXPECT_EQ(rows[0].at("threads"), 0.0);
+    EXPECT_EQ(rows[1].at("threads"), threads);
+    EXPECT_EQ(rows[2].at("threads"), threads);
+  }
+}
+
 TEST(HeadlessRunner, BadInputExitsWithCodeTwoAndWritesNothing) {
   TempDir dir("weft_bad_input");
   const std::string scene = dir.file("bad.json");

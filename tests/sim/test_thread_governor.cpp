@@ -1,6 +1,7 @@
 // The thread governor (sim/thread_governor.hpp) driven by synthetic step times: it keeps the
 // requested count where that is faster, falls back to one thread where one is faster (a core
-// taken by another process), returns when the other process leaves, and is not flipped by noise.
+// taken by another process), returns when the other process leaves, probes again when the step
+// cost changes regime, and is not flipped by noise, trends or a jump within a probe.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,7 +16,6 @@ namespace {
 
 struct GovernedRun {
   int single_thread_steps = 0;
-  int last_threads = 0;
 };
 
 // Steps the governor `steps` times; `cost(step, threads)` is the step's wall time.
@@ -24,7 +24,6 @@ GovernedRun run(ThreadGovernor& governor, int steps, const std::function<double(
   for (int s = 0; s < steps; ++s) {
     const int threads = governor.threads();
     result.single_thread_steps += threads == 1;
-    result.last_threads = threads;
     governor.record(cost(s, threads));
   }
   return result;
@@ -41,9 +40,9 @@ TEST(ThreadGovernor, KeepsTheRequestedThreadsWhereTheyAreFasterAndProbesRarely) 
   ThreadGovernor governor;
   governor.set_requested(2);
   const GovernedRun result = run(governor, 20000, [](int, int threads) { return threads == 1 ? 1.9 : 1.0; });
-  EXPECT_EQ(result.last_threads, 2);
-  // Probes back off to one every longest_wait steps: 5-step probes after 20, 40, ..., 2560, then
-  // every 2560 steps.
+  EXPECT_EQ(governor.current(), 2);
+  // Probes back off to one every longest_wait steps: probes (half their steps on one thread)
+  // after 20, 40, ..., 2560, then every 2560 steps.
   EXPECT_GT(result.single_thread_steps, 0);
   EXPECT_LT(result.single_thread_steps, 0.005 * 20000);
 }
@@ -58,7 +57,7 @@ TEST(ThreadGovernor, FallsBackToOneThreadWhileACoreIsTakenAndReturnsAfter) {
     return step < 3000 ? 1.3 : 0.55;
   };
   const GovernedRun busy = run(governor, 3000, cost);
-  EXPECT_EQ(busy.last_threads, 1);
+  EXPECT_EQ(governor.current(), 1);
   // The first probe (after first_probe_after steps) switches; afterwards two threads run only
   // in probes.
   EXPECT_GT(busy.single_thread_steps,
@@ -75,23 +74,58 @@ TEST(ThreadGovernor, FallsBackToOneThreadWhileACoreIsTakenAndReturnsAfter) {
   EXPECT_LE(steps_until_back, ThreadGovernor::longest_wait + 3 * ThreadGovernor::probe_steps);
   const GovernedRun free =
       run(governor, 1000, [&](int step, int threads) { return cost(4000 + step, threads); });
-  EXPECT_EQ(free.last_threads, 2);
+  EXPECT_EQ(governor.current(), 2);
   // After a switch the probes back off again from first_probe_after: at most six in 1000 steps
-  // (20, 40, ..., 640 steps apart).
-  EXPECT_LE(free.single_thread_steps, 6 * ThreadGovernor::probe_steps);
+  // (20, 40, ..., 640 steps apart), half of each on one thread.
+  EXPECT_LE(free.single_thread_steps, 6 * ThreadGovernor::probe_steps / 2);
 }
 
 TEST(ThreadGovernor, AFallingStepCostDoesNotPassForAFasterCount) {
   // Step costs falling 8% a step over the first 60 steps (a cloth leaving a hard contact), two
   // threads 1.3x faster throughout. A probe compared only with the steps before it would see one
-  // thread as faster (1.3 x 0.92^5 = 0.86); against the steps before and after it, it does not.
+  // thread as faster (1.3 x 0.92^5 = 0.86); within the probe's blocks the trend cancels.
   ThreadGovernor governor;
   governor.set_requested(2);
   const GovernedRun result = run(governor, 200, [](int step, int threads) {
     return std::pow(0.92, std::min(step, 60)) * (threads == 1 ? 1.3 : 1.0);
   });
-  EXPECT_EQ(result.last_threads, 2);
+  EXPECT_EQ(governor.current(), 2);
   EXPECT_LE(result.single_thread_steps, 3 * ThreadGovernor::probe_steps);
+}
+
+TEST(ThreadGovernor, AJumpInStepCostDuringAProbeDoesNotSwitch) {
+  // Two threads 1.3x faster throughout; the step cost jumps six-fold (a cloth meeting the
+  // sphere) in the middle of the first probe. One block sees the cheap step on one thread
+  // against expensive ones on two; the median of the blocks does not.
+  ThreadGovernor governor;
+  governor.set_requested(2);
+  const int jump = ThreadGovernor::first_probe_after + ThreadGovernor::probe_steps / 2 - 1;
+  const GovernedRun result =
+      run(governor, ThreadGovernor::first_probe_after + ThreadGovernor::probe_steps,
+          [&](int step, int threads) { return (step < jump ? 1.0 : 6.0) * (threads == 1 ? 1.3 : 1.0); });
+  EXPECT_EQ(result.single_thread_steps, ThreadGovernor::probe_steps / 2);  // the probe ran, on steps 20-31
+  EXPECT_EQ(governor.current(), 2);
+}
+
+TEST(ThreadGovernor, AChangeOfRegimeIsProbedAtOnce) {
+  // Light steps for 2,000 steps where both counts cost the same (the probes keep two threads and
+  // back off to waits of 640 and more), then steps six times heavier on which one thread is 1.3x
+  // faster (a shared core matters once a step holds work): the governor probes within
+  // first_probe_after + probe_steps steps of the change and switches, instead of waiting out
+  // the backed-off interval.
+  ThreadGovernor governor;
+  governor.set_requested(2);
+  const int change = 2000;
+  const auto cost = [&](int step, int threads) { return step < change ? 1.0 : (threads == 1 ? 6.0 : 7.8); };
+  run(governor, change, cost);
+  EXPECT_EQ(governor.threads(), 2);
+  const auto heavy = [&](int step, int threads) { return cost(change + step, threads); };
+  run(governor, ThreadGovernor::first_probe_after + ThreadGovernor::probe_steps, heavy);
+  EXPECT_EQ(governor.current(), 1);  // without the regime test the next probe was ~600 steps away
+  const GovernedRun after = run(governor, 200, heavy);
+  EXPECT_EQ(governor.current(), 1);
+  // Two threads only in the probes after 20, 40 and 80 steps.
+  EXPECT_GE(after.single_thread_steps, 200 - 3 * ThreadGovernor::probe_steps / 2);
 }
 
 TEST(ThreadGovernor, NoiseWithinTheMarginDoesNotSwitch) {
@@ -100,7 +134,7 @@ TEST(ThreadGovernor, NoiseWithinTheMarginDoesNotSwitch) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> noise(0.96, 1.04);
   const GovernedRun result = run(governor, 20000, [&](int, int) { return noise(rng); });
-  EXPECT_EQ(result.last_threads, 2);
+  EXPECT_EQ(governor.current(), 2);
   EXPECT_LT(result.single_thread_steps, 0.005 * 20000);
 }
 
