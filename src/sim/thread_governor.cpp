@@ -41,23 +41,20 @@ void ThreadGovernor::record(double step_seconds) {
 
 void ThreadGovernor::finish_probe() {
   std::array<double, probe_blocks> ratios;
-  double current_time = 0.0;
+  double other_time = 0.0, current_time = 0.0;
   for (int b = 0; b < probe_blocks; ++b) {
     const double* block = probe_.data() + 4 * b;
-    ratios[b] = (block[0] + block[3]) / (block[1] + block[2]);
-    current_time += block[1] + block[2];
+    const double other = block[0] + block[3], current = block[1] + block[2];
+    ratios[b] = other / current;
+    other_time += other;
+    current_time += current;
   }
   std::nth_element(ratios.begin(), ratios.begin() + probe_blocks / 2, ratios.end());
   const double ratio = ratios[probe_blocks / 2];
-  const bool switch_count = ratio < switch_margin;
-  if (switch_count) {
-    // The other count's mean step time becomes the reference the regime test compares with.
-    current_time = 0.0;
-    for (int k = 0; k < probe_steps; ++k) {
-      if (on_other_count(k)) current_time += probe_[k];
-    }
+  if (ratio < switch_margin) {
     current_ = other_count();
     wait_ = first_probe_after;
+    current_time = other_time;  // the reference the regime test compares with is the new count's
   } else {
     wait_ = std::min((ratio > clear_margin ? 4 : 2) * wait_, longest_wait);
   }

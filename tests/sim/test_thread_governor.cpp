@@ -118,7 +118,7 @@ TEST(ThreadGovernor, AChangeOfRegimeIsProbedAtOnce) {
   const int change = 2000;
   const auto cost = [&](int step, int threads) { return step < change ? 1.0 : (threads == 1 ? 6.0 : 7.8); };
   run(governor, change, cost);
-  EXPECT_EQ(governor.threads(), 2);
+  EXPECT_EQ(governor.current(), 2);
   const auto heavy = [&](int step, int threads) { return cost(change + step, threads); };
   run(governor, ThreadGovernor::first_probe_after + ThreadGovernor::probe_steps, heavy);
   EXPECT_EQ(governor.current(), 1);  // without the regime test the next probe was ~600 steps away
