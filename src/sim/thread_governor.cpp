@@ -20,7 +20,11 @@ void ThreadGovernor::record(double step_seconds) {
   if (requested_ == 1) return;
   if (phase_ == Phase::probe) {
     probe_[probe_count_++] = step_seconds;
-    if (probe_count_ == probe_steps) finish_probe();
+    if (probe_count_ == 4 && first_block_settles()) {
+      finish_probe(1);
+    } else if (probe_count_ == probe_steps) {
+      finish_probe(probe_blocks);
+    }
     return;
   }
   recent_[steps_since_probe_ % regime_window] = step_seconds;  // the order within the ring is irrelevant
@@ -39,18 +43,24 @@ void ThreadGovernor::record(double step_seconds) {
   }
 }
 
-void ThreadGovernor::finish_probe() {
+bool ThreadGovernor::first_block_settles() const {
+  const double other_fastest = std::min(probe_[0], probe_[3]);
+  const double current_slowest = std::max(probe_[1], probe_[2]);
+  return other_fastest > current_slowest && probe_[0] + probe_[3] > clear_margin * (probe_[1] + probe_[2]);
+}
+
+void ThreadGovernor::finish_probe(int blocks) {
   std::array<double, probe_blocks> ratios;
   double other_time = 0.0, current_time = 0.0;
-  for (int b = 0; b < probe_blocks; ++b) {
+  for (int b = 0; b < blocks; ++b) {
     const double* block = probe_.data() + 4 * b;
     const double other = block[0] + block[3], current = block[1] + block[2];
     ratios[b] = other / current;
     other_time += other;
     current_time += current;
   }
-  std::nth_element(ratios.begin(), ratios.begin() + probe_blocks / 2, ratios.end());
-  const double ratio = ratios[probe_blocks / 2];
+  std::nth_element(ratios.begin(), ratios.begin() + blocks / 2, ratios.begin() + blocks);
+  const double ratio = ratios[blocks / 2];
   if (ratio < switch_margin) {
     current_ = other_count();
     wait_ = first_probe_after;
@@ -58,7 +68,7 @@ void ThreadGovernor::finish_probe() {
   } else {
     wait_ = std::min((ratio > clear_margin ? 4 : 2) * wait_, longest_wait);
   }
-  probed_step_time_ = current_time / (2 * probe_blocks);
+  probed_step_time_ = current_time / (2 * blocks);
   phase_ = Phase::run;
   steps_since_probe_ = 0;
   probe_count_ = 0;

@@ -14,7 +14,12 @@
 // ratio is the other count's two step times over the current count's two; a step cost that
 // rises or falls steadily (a cloth reaching a collider costs several times more a step within
 // a few frames) cancels in it exactly, and the median over the blocks ignores a block that a
-// sudden jump falls into. The first probe comes after `first_probe_after` steps; each probe
+// sudden jump falls into. A probe ends after its first block when that block settles the
+// question for the current count: the other count clearly slower (block ratio above
+// `clear_margin`) and each of its two steps slower than either of the current count's, so a
+// single slow step cannot end it. That is the common case (two threads on a free machine, one
+// on a shared one), and it runs two steps on the slower count instead of six; a switch always
+// takes the whole probe. The first probe comes after `first_probe_after` steps; each probe
 // that confirms the current count doubles the wait to the next (quadruples it when the other
 // count was clearly slower; up to `longest_wait`), a switch resets it, so a run that never
 // needs to switch spends a few steps in a thousand probing. Since which count is faster
@@ -57,7 +62,10 @@ class ThreadGovernor {
   int other_count() const { return current_ == 1 ? requested_ : 1; }
   // Whether step k of a probe runs on the other count (the first and last of each block).
   static bool on_other_count(int k) { return k % 4 == 0 || k % 4 == 3; }
-  void finish_probe();
+  // Whether the probe's first block shows the other count clearly slower (see above).
+  bool first_block_settles() const;
+  // Decides on the median ratio of the probe's first `blocks` blocks.
+  void finish_probe(int blocks);
 
   enum class Phase { run, probe };
 

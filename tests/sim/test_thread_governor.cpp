@@ -94,15 +94,16 @@ TEST(ThreadGovernor, AFallingStepCostDoesNotPassForAFasterCount) {
 }
 
 TEST(ThreadGovernor, AJumpInStepCostDuringAProbeDoesNotSwitch) {
-  // Two threads 1.3x faster throughout; the step cost jumps six-fold (a cloth meeting the
-  // sphere) in the middle of the first probe. One block sees the cheap step on one thread
-  // against expensive ones on two; the median of the blocks does not.
+  // Two threads 1.2x faster throughout (within clear_margin, so the probe does not end after its
+  // first block); the step cost jumps six-fold (a cloth meeting the sphere) in the middle of the
+  // first probe. One block sees the cheap step on one thread against expensive ones on two; the
+  // median of the blocks does not.
   ThreadGovernor governor;
   governor.set_requested(2);
   const int jump = ThreadGovernor::first_probe_after + ThreadGovernor::probe_steps / 2 - 1;
   const GovernedRun result =
       run(governor, ThreadGovernor::first_probe_after + ThreadGovernor::probe_steps,
-          [&](int step, int threads) { return (step < jump ? 1.0 : 6.0) * (threads == 1 ? 1.3 : 1.0); });
+          [&](int step, int threads) { return (step < jump ? 1.0 : 6.0) * (threads == 1 ? 1.2 : 1.0); });
   EXPECT_EQ(result.single_thread_steps, ThreadGovernor::probe_steps / 2);  // the probe ran, on steps 20-31
   EXPECT_EQ(governor.current(), 2);
 }
@@ -126,6 +127,37 @@ TEST(ThreadGovernor, AChangeOfRegimeIsProbedAtOnce) {
   EXPECT_EQ(governor.current(), 1);
   // Two threads only in the probes after 20, 40 and 80 steps.
   EXPECT_GE(after.single_thread_steps, 200 - 3 * ThreadGovernor::probe_steps / 2);
+}
+
+TEST(ThreadGovernor, AClearlySlowerOtherCountEndsTheProbeAfterOneBlock) {
+  // Two threads 1.85x faster (the 64x64 drape on a free 2-core machine): each probe runs two steps
+  // on one thread, not six, and the count stays.
+  ThreadGovernor governor;
+  governor.set_requested(2);
+  const auto cost = [](int, int threads) { return threads == 1 ? 1.85 : 1.0; };
+  const GovernedRun first =
+      run(governor, ThreadGovernor::first_probe_after + ThreadGovernor::probe_steps, cost);
+  EXPECT_EQ(first.single_thread_steps, 2);
+  EXPECT_EQ(governor.current(), 2);
+  // Later probes likewise, the waits quadrupling (80, 320, 1280 steps, then 2560).
+  const GovernedRun later = run(governor, 5000, cost);
+  EXPECT_EQ(later.single_thread_steps % 2, 0);
+  EXPECT_LE(later.single_thread_steps, 2 * 5);
+  EXPECT_EQ(governor.current(), 2);
+}
+
+TEST(ThreadGovernor, OneSlowStepInTheFirstBlockDoesNotEndTheProbe) {
+  // One thread faster (another process holds a core: two threads 1.0, one 0.8), but the first
+  // step of the first probe, on one thread, is slowed five-fold by something else. That block's
+  // ratio says keep two threads; its other step does not, so the probe runs on and switches.
+  ThreadGovernor governor;
+  governor.set_requested(2);
+  const int first_probe_step = ThreadGovernor::first_probe_after;
+  run(governor, first_probe_step + ThreadGovernor::probe_steps, [&](int step, int threads) {
+    if (threads == 2) return 1.0;
+    return step == first_probe_step ? 4.0 : 0.8;
+  });
+  EXPECT_EQ(governor.current(), 1);
 }
 
 TEST(ThreadGovernor, NoiseWithinTheMarginDoesNotSwitch) {
