@@ -10,8 +10,13 @@
 // Printed: method, iteration, seconds so far, residual (m/s, newton_residual of the full
 // incremental potential's gradient). A first prototype, written for the measurement: each
 // vertex evaluates its triangles' and hinges' full element matrices and keeps one block.
+// --polish instead runs Newton capped at k = 3..8 iterations and then sweeps of the same updates
+// over only the vertices whose residual is above the scene's tolerance and their neighbours,
+// printing per sweep how many are above, how many were touched and the residual: whether the
+// tail of a step's residual is local enough for local updates to finish it.
 //   cmake --build build/release --target weft_vbd_membrane
 //   build/release/bench/weft_vbd_membrane [--resolution 64] [--frames 20] [--sweeps 200] [--rho 0.9]
+//   [--polish]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -50,8 +55,8 @@ double residual_at(const ClothModel& model, const Vec3& gravity, const Positions
   return newton_residual(gradient, model.inverse_mass, h);
 }
 
-// Vertex colours such that no two vertices of one triangle or hinge share one (greedy).
-std::vector<std::vector<int>> colour_vertices(const ClothModel& model) {
+// Per vertex: the vertices that share a triangle or a hinge with it.
+std::vector<std::vector<int>> vertex_neighbours(const ClothModel& model) {
   const int n = static_cast<int>(model.rest_positions.cols());
   std::vector<std::vector<int>> neighbours(n);
   const auto connect = [&](const int* v, int k) {
@@ -63,6 +68,13 @@ std::vector<std::vector<int>> colour_vertices(const ClothModel& model) {
   };
   for (Eigen::Index t = 0; t < model.triangles.cols(); ++t) connect(model.triangles.col(t).data(), 3);
   for (Eigen::Index e = 0; e < model.bending.hinges.cols(); ++e) connect(model.bending.hinges.col(e).data(), 4);
+  return neighbours;
+}
+
+// Vertex colours such that no two vertices of one triangle or hinge share one (greedy).
+std::vector<std::vector<int>> colour_vertices(const ClothModel& model) {
+  const int n = static_cast<int>(model.rest_positions.cols());
+  const std::vector<std::vector<int>> neighbours = vertex_neighbours(model);
   std::vector<int> colour(n, -1);
   int colours = 0;
   for (int v = 0; v < n; ++v) {
@@ -100,12 +112,12 @@ Incidence incidence(const ClothModel& model) {
 // One Gauss-Seidel sweep of per-vertex Newton updates over the colours.
 void vbd_sweep(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
                const Positions& x_hat, const std::vector<std::vector<int>>& colours, const Incidence& inc,
-               Positions& x) {
+               Positions& x, const std::vector<char>* active = nullptr) {
   const double inertia = 1.0 / (h * h);
   const double damping = model.mass_damping / h;
   for (const std::vector<int>& group : colours) {
     for (const int i : group) {
-      if (model.inverse_mass[i] == 0.0) continue;
+      if (model.inverse_mass[i] == 0.0 || (active != nullptr && !(*active)[i])) continue;
       const double m = model.mass[i];
       Vec3 g = m * inertia * (x.col(i) - x_hat.col(i)) - m * gravity + m * damping * (x.col(i) - x_start.col(i));
       Mat3 hess = (m * (inertia + damping)) * Mat3::Identity();
@@ -136,6 +148,7 @@ void vbd_sweep(const ClothModel& model, const Vec3& gravity, double h, const Pos
 
 int main(int argc, char** argv) {
   int resolution = 64, frames = 20, sweeps = 200;
+  bool polish = false;
   double rho = 0.0;
   for (int a = 1; a < argc; ++a) {
     const bool value = a + 1 < argc;
@@ -145,10 +158,13 @@ int main(int argc, char** argv) {
       frames = std::stoi(argv[++a]);
     } else if (std::strcmp(argv[a], "--sweeps") == 0 && value) {
       sweeps = std::stoi(argv[++a]);
+    } else if (std::strcmp(argv[a], "--polish") == 0) {
+      polish = true;
     } else if (std::strcmp(argv[a], "--rho") == 0 && value) {
       rho = std::stod(argv[++a]);
     } else {
-      std::fprintf(stderr, "usage: %s [--resolution 64] [--frames 20] [--sweeps 200] [--rho 0]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--resolution 64] [--frames 20] [--sweeps 200] [--rho 0] [--polish]\n",
+                   argv[0]);
       return 2;
     }
   }
@@ -183,9 +199,44 @@ int main(int argc, char** argv) {
                 residual_at(model, gravity, cloth.state.x, x_start, x_hat, h, gradient));
   }
 
-  // VBD from the inertial predictor.
   const std::vector<std::vector<int>> colours = colour_vertices(model);
   const Incidence inc = incidence(model);
+  if (polish) {
+    // Newton capped at k, then Gauss-Seidel sweeps over only the vertices whose residual is above
+    // the scene's tolerance and their neighbours: does the tail of a step's residual sit where
+    // local updates can finish it?
+    const std::vector<std::vector<int>> neighbours = vertex_neighbours(model);
+    const double tolerance = world.settings.implicit.newton_tolerance;
+    for (int k = 3; k <= 8; ++k) {
+      Cloth cloth = start;
+      ImplicitEulerSolver solver;
+      ImplicitEulerSettings settings = world.settings.implicit;
+      settings.max_newton_iterations = k;
+      settings.newton_tolerance = 1e-12;
+      solver.step(cloth, gravity, h, settings);
+      Positions xp = cloth.state.x;
+      double residual = residual_at(model, gravity, xp, x_start, x_hat, h, gradient);
+      for (int sweep = 0; sweep <= 30; ++sweep) {
+        std::vector<char> active(model.mass.size(), 0);
+        int above = 0, touched = 0;
+        for (Eigen::Index i = 0; i < xp.cols(); ++i) {
+          if (h * gradient.col(i).norm() * model.inverse_mass[i] <= tolerance) continue;
+          ++above;
+          active[i] = 1;
+          for (const int w : neighbours[i]) active[w] = 1;
+        }
+        for (const char a : active) touched += a;
+        std::printf("polish_after_newton_%d,%d,%d above,%d touched,%.3e\n", k, sweep, above, touched,
+                    residual);
+        if (above == 0) break;
+        vbd_sweep(model, gravity, h, x_start, x_hat, colours, inc, xp, &active);
+        residual = residual_at(model, gravity, xp, x_start, x_hat, h, gradient);
+      }
+    }
+    return 0;
+  }
+
+  // VBD from the inertial predictor.
   std::fprintf(stderr, "%zu vertex colours\n", colours.size());
   Positions x = x_hat, previous = x_hat, before_previous = x_hat;
   double omega = 1.0, seconds = 0.0;
