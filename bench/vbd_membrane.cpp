@@ -10,10 +10,12 @@
 // Printed: method, iteration, seconds so far, residual (m/s, newton_residual of the full
 // incremental potential's gradient). A first prototype, written for the measurement: each
 // vertex evaluates its triangles' and hinges' full element matrices and keeps one block.
-// --polish instead runs Newton capped at k = 3..8 iterations and then sweeps of the same updates
-// over only the vertices whose residual is above the scene's tolerance and their neighbours,
-// printing per sweep how many are above, how many were touched and the residual: whether the
-// tail of a step's residual is local enough for local updates to finish it.
+// --polish instead runs Newton capped at k = 3..8 iterations and then either sweeps of the same
+// updates or restricted Newton iterations (exact solves of the Hessian's rows and columns of the
+// region, the rest held) over only the vertices whose residual is above the scene's tolerance
+// and their neighbours, printing per sweep or iteration how many are above, the region's size
+// and the residual: whether the tail of a step's residual is local enough for local work to
+// finish it.
 //   cmake --build build/release --target weft_vbd_membrane
 //   build/release/bench/weft_vbd_membrane [--resolution 64] [--frames 20] [--sweeps 200] [--rho 0.9]
 //   [--polish]
@@ -25,12 +27,15 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/SparseCholesky>
+
 #include "io/scene_builder.hpp"
 #include "io/scene_file.hpp"
 #include "physics/cloth_terms.hpp"
 #include "physics/hinge_bending.hpp"
 #include "physics/implicit_euler.hpp"
 #include "physics/membrane_stvk.hpp"
+#include "physics/sparse_hessian.hpp"
 #include "sim/world.hpp"
 
 namespace {
@@ -230,6 +235,68 @@ int main(int argc, char** argv) {
                     residual);
         if (above == 0) break;
         vbd_sweep(model, gravity, h, x_start, x_hat, colours, inc, xp, &active);
+        residual = residual_at(model, gravity, xp, x_start, x_hat, h, gradient);
+      }
+    }
+    // The same tail by restricted Newton iterations: the projected Hessian of the whole cloth at
+    // the iterate, its rows and columns of the vertices above the tolerance and their neighbours
+    // solved exactly (the rest held), the full step taken.
+    SparseHessian hessian;
+    HessianStencils stencils;
+    prepare_hessian(model, hessian, stencils);
+    for (int k = 3; k <= 8; ++k) {
+      Cloth cloth = start;
+      ImplicitEulerSolver solver;
+      ImplicitEulerSettings settings = world.settings.implicit;
+      settings.max_newton_iterations = k;
+      settings.newton_tolerance = 1e-12;
+      solver.step(cloth, gravity, h, settings);
+      Positions xp = cloth.state.x;
+      double residual = residual_at(model, gravity, xp, x_start, x_hat, h, gradient);
+      for (int iteration = 0; iteration <= 8; ++iteration) {
+        std::vector<int> local(model.mass.size(), -1);
+        std::vector<int> region;
+        int above = 0;
+        for (Eigen::Index i = 0; i < xp.cols(); ++i) {
+          if (h * gradient.col(i).norm() * model.inverse_mass[i] <= tolerance) continue;
+          ++above;
+          for (const int w : neighbours[i]) {
+            if (local[w] < 0 && model.inverse_mass[w] > 0.0) {
+              local[w] = static_cast<int>(region.size());
+              region.push_back(w);
+            }
+          }
+          if (local[i] < 0) {
+            local[i] = static_cast<int>(region.size());
+            region.push_back(static_cast<int>(i));
+          }
+        }
+        std::printf("restricted_after_newton_%d,%d,%d above,%zu touched,%.3e\n", k, iteration, above,
+                    region.size(), residual);
+        if (above == 0) break;
+        hessian.set_zero();
+        evaluate_mass_quadratic(model.mass, 1.0 / (h * h), xp, x_hat, nullptr, &hessian);
+        evaluate_potential(model, gravity, xp, nullptr, &hessian, stencils, true);
+        evaluate_dissipation(model, x_start, xp, h, nullptr, &hessian, stencils);
+        hessian.finish_assembly();
+        const SparseHessian::Matrix& full = hessian.matrix();
+        std::vector<Eigen::Triplet<double>> entries;
+        Eigen::VectorXd rhs(3 * region.size());
+        for (size_t a = 0; a < region.size(); ++a) {
+          for (int r = 0; r < 3; ++r) {
+            const int row = 3 * region[a] + r;
+            rhs[3 * a + r] = -gradient(r, region[a]);
+            for (SparseHessian::Matrix::InnerIterator it(full, row); it; ++it) {
+              const int b = local[it.col() / 3];
+              if (b >= 0) entries.emplace_back(3 * a + r, 3 * b + it.col() % 3, it.value());
+            }
+          }
+        }
+        Eigen::SparseMatrix<double> restricted(rhs.size(), rhs.size());
+        restricted.setFromTriplets(entries.begin(), entries.end());
+        const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solve(restricted);
+        const Eigen::VectorXd dx = solve.solve(rhs);
+        for (size_t a = 0; a < region.size(); ++a) xp.col(region[a]) += dx.segment<3>(3 * a);
         residual = residual_at(model, gravity, xp, x_start, x_hat, h, gradient);
       }
     }
