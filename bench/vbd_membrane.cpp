@@ -48,6 +48,17 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// The step from `start` by the shipped Newton + CG capped at k iterations (no tolerance stop).
+Cloth newton_capped(const Cloth& start, const World& world, int k) {
+  Cloth cloth = start;
+  ImplicitEulerSolver solver;
+  ImplicitEulerSettings settings = world.settings.implicit;
+  settings.max_newton_iterations = k;
+  settings.newton_tolerance = 1e-12;
+  solver.step(cloth, world.settings.gravity, world.settings.time_step, settings);
+  return cloth;
+}
+
 // The incremental potential's residual at x (as ImplicitEulerSolver measures it).
 double residual_at(const ClothModel& model, const Vec3& gravity, const Positions& x, const Positions& x_start,
                    const Positions& x_hat, double h, Positions& gradient) {
@@ -214,13 +225,7 @@ int main(int argc, char** argv) {
     const std::vector<std::vector<int>> neighbours = vertex_neighbours(model);
     const double tolerance = world.settings.implicit.newton_tolerance;
     for (int k = 3; k <= 8; ++k) {
-      Cloth cloth = start;
-      ImplicitEulerSolver solver;
-      ImplicitEulerSettings settings = world.settings.implicit;
-      settings.max_newton_iterations = k;
-      settings.newton_tolerance = 1e-12;
-      solver.step(cloth, gravity, h, settings);
-      Positions xp = cloth.state.x;
+      Positions xp = newton_capped(start, world, k).state.x;
       double residual = residual_at(model, gravity, xp, x_start, x_hat, h, gradient);
       for (int sweep = 0; sweep <= 30; ++sweep) {
         std::vector<char> active(model.mass.size(), 0);
@@ -247,13 +252,7 @@ int main(int argc, char** argv) {
     prepare_hessian(model, hessian, stencils);
     for (int k = 3; k <= 16; ++k) {
       const bool frozen = k > 8;  // k - 5: the Hessian kept from the first restricted iteration
-      Cloth cloth = start;
-      ImplicitEulerSolver solver;
-      ImplicitEulerSettings settings = world.settings.implicit;
-      settings.max_newton_iterations = frozen ? k - 5 : k;
-      settings.newton_tolerance = 1e-12;
-      solver.step(cloth, gravity, h, settings);
-      Positions xp = cloth.state.x;
+      Positions xp = newton_capped(start, world, frozen ? k - 5 : k).state.x;
       double residual = residual_at(model, gravity, xp, x_start, x_hat, h, gradient);
       for (int iteration = 0; iteration <= 8; ++iteration) {
         std::vector<int> local(model.mass.size(), -1);
