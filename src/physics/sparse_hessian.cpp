@@ -2,10 +2,6 @@
 
 #include <algorithm>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include "core/parallel_chunks.hpp"
 
 namespace weft {
@@ -128,45 +124,17 @@ void SparseHessian::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const
     const double* row0 = values + begin;
     const double* row1 = row0 + width;
     const double* row2 = row1 + width;
-#if defined(__SSE2__)
-    // Columns 0 and 1 of each block row in one 16-byte load (as are x's two entries), column 2
-    // apart: 9 loads a block instead of 13, which is what bounds this loop (2026-11-26,
-    // `weft_bench --benchmark_filter=hessian_multiply`: 102 -> 83 us at N = 64).
-    __m128d v0 = _mm_setzero_pd(), v1 = _mm_setzero_pd(), v2 = _mm_setzero_pd();
     double y0 = 0.0, y1 = 0.0, y2 = 0.0;
     for (int k = 0; k < width; k += 3) {
       const double* xb = in + columns[begin + k];
-      const __m128d x01 = _mm_loadu_pd(xb);
-      const double x2 = xb[2];
-      v0 = _mm_add_pd(v0, _mm_mul_pd(_mm_loadu_pd(row0 + k), x01));
-      v1 = _mm_add_pd(v1, _mm_mul_pd(_mm_loadu_pd(row1 + k), x01));
-      v2 = _mm_add_pd(v2, _mm_mul_pd(_mm_loadu_pd(row2 + k), x01));
-      y0 += row0[k + 2] * x2;
-      y1 += row1[k + 2] * x2;
-      y2 += row2[k + 2] * x2;
+      const double x0 = xb[0], x1 = xb[1], x2 = xb[2];
+      y0 += row0[k] * x0 + row0[k + 1] * x1 + row0[k + 2] * x2;
+      y1 += row1[k] * x0 + row1[k + 1] * x1 + row1[k + 2] * x2;
+      y2 += row2[k] * x0 + row2[k + 1] * x1 + row2[k + 2] * x2;
     }
-    double lanes[6];
-    _mm_storeu_pd(lanes, v0);
-    _mm_storeu_pd(lanes + 2, v1);
-    _mm_storeu_pd(lanes + 4, v2);
-    out[3 * a] = (lanes[0] + lanes[1]) + y0;
-    out[3 * a + 1] = (lanes[2] + lanes[3]) + y1;
-    out[3 * a + 2] = (lanes[4] + lanes[5]) + y2;
-#else
-    // The same sums in the same order as above.
-    double s0[3] = {0.0, 0.0, 0.0}, s1[3] = {0.0, 0.0, 0.0}, s2[3] = {0.0, 0.0, 0.0};
-    for (int k = 0; k < width; k += 3) {
-      const double* xb = in + columns[begin + k];
-      for (int c = 0; c < 3; ++c) {
-        s0[c] += row0[k + c] * xb[c];
-        s1[c] += row1[k + c] * xb[c];
-        s2[c] += row2[k + c] * xb[c];
-      }
-    }
-    out[3 * a] = (s0[0] + s0[1]) + s0[2];
-    out[3 * a + 1] = (s1[0] + s1[1]) + s1[2];
-    out[3 * a + 2] = (s2[0] + s2[1]) + s2[2];
-#endif
+    out[3 * a] = y0;
+    out[3 * a + 1] = y1;
+    out[3 * a + 2] = y2;
   }
 }
 
