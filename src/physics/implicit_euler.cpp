@@ -34,6 +34,8 @@ void ImplicitEulerSolver::prepare(const ClothModel& model) {
     penalty_->add_coupling_product(x_linearized_, free_mask_, p, y);
   };
   cholesky_ = SupernodalCholesky();
+  tail_supported_ = NewtonTail::supports(model);
+  if (tail_supported_) tail_.prepare(model);
   prepared_ = true;
 }
 
@@ -89,6 +91,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   report_.residual = 0.0;
   report_.projected_hessians = 0;
   report_.stretched_steps = 0;
+  report_.restricted_iterations = 0;
   report_.diverged_stops = 0;
   report_.gradient_norms.clear();
 
@@ -134,6 +137,10 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   const double start_value = value;
   int diverging = 0;
   double cg_tolerance = std::max(settings.cg_tolerance, settings.cg_initial_tolerance);
+  const bool use_tail = tail_supported_ && penalty_ == nullptr && !exact_first && settings.restricted_tail_share > 0.0;
+  NewtonTailSettings tail_settings;
+  tail_settings.tolerance = settings.newton_tolerance;
+  tail_settings.largest_share = settings.restricted_tail_share;
   for (int iteration = 0; iteration < settings.max_newton_iterations && !report_.converged; ++iteration) {
     report_.gradient_norms.push_back(gradient_vector().norm());
     if (!assembled) evaluate_for_newton(x);  // the last step predicted convergence and was wrong
@@ -219,6 +226,20 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     }
     report_.residual = newton_residual(gradient_, model.inverse_mass, h);
     report_.converged = report_.residual < settings.newton_tolerance;
+    if (use_tail && !report_.converged) {
+      // The residual left on a few vertices: iterations on their region, then the whole cloth's
+      // gradient again, so that the residual judged is the cloth's.
+      const int restricted =
+          tail_.iterate(model, gravity, h, x_start_, x_hat_, tail_settings, hessian_, stencils_, x, gradient_);
+      if (restricted > 0) {
+        report_.newton_iterations += restricted;
+        report_.restricted_iterations += restricted;
+        value = incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/false, /*project=*/false);
+        assembled = false;
+        report_.residual = newton_residual(gradient_, model.inverse_mass, h);
+        report_.converged = report_.residual < settings.newton_tolerance;
+      }
+    }
     const bool stalled = value_before - value < stalled_fraction * (start_value - value);
     if (report_.residual < best_residual) {
       best_residual = report_.residual;

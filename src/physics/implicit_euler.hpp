@@ -13,6 +13,7 @@
 #include "physics/cloth_terms.hpp"
 #include "physics/conjugate_gradient.hpp"
 #include "physics/contact_penalty.hpp"
+#include "physics/newton_tail.hpp"
 #include "physics/sparse_hessian.hpp"
 #include "physics/supernodal_cholesky.hpp"
 
@@ -39,6 +40,10 @@ struct ImplicitEulerSettings {
   double cg_tolerance = 1e-6;
   double cg_initial_tolerance = 1e-2;
   int max_cg_iterations = 2000;
+  // With conjugate gradient, once at most this share of the free vertices is above the tolerance
+  // the next iterations work on those vertices and their neighbours only (physics/newton_tail.hpp;
+  // models it supports, no contact penalty); 0 turns it off.
+  double restricted_tail_share = 0.02;
 };
 
 // What the last step did. The step ends at the iterate with the smallest residual it reached.
@@ -50,6 +55,7 @@ struct NewtonReport {
   int projected_hessians = 0;          // Cholesky only: iterations whose exact Hessian was not positive
                                        // definite, so the element-wise projected one was solved instead
   int stretched_steps = 0;              // Newton steps the line search stretched past dx (max_step_expansion)
+  int restricted_iterations = 0;        // of newton_iterations, those restricted to the tail's region
   int diverged_stops = 0;               // 1 when the step stopped with the residual far above its best
                                         // for several iterations (the best iterate is returned)
   std::vector<double> gradient_norms;  // |grad of incremental potential| over free vertices, per iteration
@@ -96,6 +102,8 @@ class ImplicitEulerSolver {
   Eigen::VectorXd gravity_drop_;  // h^2 g on free coordinates: CG's guess on a step's first solve
   ConjugateGradientSolver cg_;
   SupernodalCholesky cholesky_;
+  NewtonTail tail_;
+  bool tail_supported_ = false;
   NewtonReport report_;
 };
 

@@ -109,6 +109,39 @@ void SparseHessian::finish_assembly() {
   for (int k : fixed_diagonal_indices_) values[k] = 1.0;
 }
 
+void SparseHessian::zero_block_rows(const std::vector<int>& vertices) {
+  const int* starts = matrix_.outerIndexPtr();
+  double* values = matrix_.valuePtr();
+  for (const int a : vertices) std::fill(values + starts[3 * a], values + starts[3 * a + 3], 0.0);
+}
+
+void SparseHessian::multiply_region(const std::vector<int>& rows, const std::vector<int>& local,
+                                    const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  const int* starts = matrix_.outerIndexPtr();
+  const int* columns = matrix_.innerIndexPtr();
+  const double* values = matrix_.valuePtr();
+  for (size_t k = 0; k < rows.size(); ++k) {
+    const int a = rows[k];
+    const int begin = starts[3 * a];
+    const int width = starts[3 * a + 1] - begin;
+    const double* row0 = values + begin;
+    const double* row1 = row0 + width;
+    const double* row2 = row1 + width;
+    double y0 = 0.0, y1 = 0.0, y2 = 0.0;
+    for (int j = 0; j < width; j += 3) {
+      const int b = local[columns[begin + j] / 3];
+      if (b < 0) continue;
+      const double x0 = x[3 * b], x1 = x[3 * b + 1], x2 = x[3 * b + 2];
+      y0 += row0[j] * x0 + row0[j + 1] * x1 + row0[j + 2] * x2;
+      y1 += row1[j] * x0 + row1[j + 1] * x1 + row1[j + 2] * x2;
+      y2 += row2[j] * x0 + row2[j + 1] * x1 + row2[j + 2] * x2;
+    }
+    y[3 * k] = y0;
+    y[3 * k + 1] = y1;
+    y[3 * k + 2] = y2;
+  }
+}
+
 void SparseHessian::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   // Layout (finish_pattern): block row a is scalar rows 3a..3a+2 of equal length, each listing
   // its blocks' columns 3b, 3b+1, 3b+2 in the same order.

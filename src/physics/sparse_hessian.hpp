@@ -62,6 +62,14 @@ class SparseHessian {
   // among the OpenMP threads; each row sums in the same order whatever their number.
   void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
 
+  // Zeroes the block rows of `vertices` (a region's rows before its elements are added again).
+  void zero_block_rows(const std::vector<int>& vertices);
+  // y = H_RR x for a region R: for each k, block row rows[k] times x, over the block columns b
+  // with local[b] >= 0 (the others are held); x and y are indexed by region position
+  // (3 local[b] + c), sized 3 rows.size() at least. Serial.
+  void multiply_region(const std::vector<int>& rows, const std::vector<int>& local, const Eigen::VectorXd& x,
+                       Eigen::VectorXd& y) const;
+
   const Matrix& matrix() const { return matrix_; }
   int num_vertices() const { return num_vertices_; }
 

@@ -1,0 +1,282 @@
+#include "physics/newton_tail.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "physics/hinge_bending.hpp"
+
+namespace weft {
+
+namespace {
+
+// CSR lists of the elements (columns of `elements`, K rows) of each of n vertices.
+template <int K>
+void incidence_lists(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements, int n, std::vector<int>& starts,
+                     std::vector<int>& list) {
+  starts.assign(n + 1, 0);
+  for (Eigen::Index e = 0; e < elements.cols(); ++e) {
+    for (int k = 0; k < K; ++k) ++starts[elements(k, e) + 1];
+  }
+  for (int i = 0; i < n; ++i) starts[i + 1] += starts[i];
+  list.assign(starts[n], 0);
+  std::vector<int> fill(starts.begin(), starts.end() - 1);
+  for (Eigen::Index e = 0; e < elements.cols(); ++e) {
+    for (int k = 0; k < K; ++k) list[fill[elements(k, e)]++] = static_cast<int>(e);
+  }
+}
+
+template <int K>
+int corner_of(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements, int e, int vertex) {
+  for (int k = 0; k < K; ++k) {
+    if (elements(k, e) == vertex) return k;
+  }
+  return -1;
+}
+
+}  // namespace
+
+bool NewtonTail::supports(const ClothModel& model) {
+  return model.springs.size() == 0 && !model.air_drag.enabled() && !model.pressure.enabled &&
+         (!model.bending.enabled() || model.bending.model == BendingModel::dihedral);
+}
+
+void NewtonTail::prepare(const ClothModel& model) {
+  const int n = static_cast<int>(model.rest_positions.cols());
+  num_vertices_ = n;
+  const Triangles empty_triangles(3, 0);
+  const Eigen::Matrix4Xi empty_hinges(4, 0);
+  incidence_lists<3>(model.membrane.enabled() ? model.triangles : empty_triangles, n, triangle_starts_,
+                     triangle_list_);
+  incidence_lists<4>(model.bending.enabled() ? model.bending.hinges : empty_hinges, n, hinge_starts_, hinge_list_);
+  std::vector<std::vector<int>> neighbours(n);
+  for (int i = 0; i < n; ++i) {
+    for (int k = triangle_starts_[i]; k < triangle_starts_[i + 1]; ++k) {
+      for (int c = 0; c < 3; ++c) neighbours[i].push_back(model.triangles(c, triangle_list_[k]));
+    }
+    for (int k = hinge_starts_[i]; k < hinge_starts_[i + 1]; ++k) {
+      for (int c = 0; c < 4; ++c) neighbours[i].push_back(model.bending.hinges(c, hinge_list_[k]));
+    }
+  }
+  neighbour_starts_.assign(n + 1, 0);
+  neighbour_list_.clear();
+  for (int i = 0; i < n; ++i) {
+    std::vector<int>& list = neighbours[i];
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    neighbour_list_.insert(neighbour_list_.end(), list.begin(), list.end());
+    neighbour_starts_[i + 1] = static_cast<int>(neighbour_list_.size());
+  }
+  region_.clear();
+  region_.reserve(n);
+  touched_.clear();
+  touched_.reserve(n);
+  local_.assign(n, -1);
+  touched_mark_.assign(n, 0);
+  region_triangles_.clear();
+  region_triangles_.reserve(model.triangles.cols());
+  triangle_mark_.assign(model.triangles.cols(), 0);
+  region_hinges_.clear();
+  region_hinges_.reserve(model.bending.hinges.cols());
+  hinge_mark_.assign(model.bending.hinges.cols(), 0);
+  for (Eigen::VectorXd* v : {&region_gradient_, &dx_, &r_, &z_, &p_, &q_}) v->setZero(3 * n);
+  inverse_blocks_.assign(n, Mat3::Identity());
+  saved_.setZero(3, n);
+}
+
+int NewtonTail::collect_region(const ClothModel& model, double h, double tolerance, const Positions& gradient) {
+  for (const int v : region_) local_[v] = -1;
+  for (const int v : touched_) touched_mark_[v] = 0;
+  for (const int t : region_triangles_) triangle_mark_[t] = 0;
+  for (const int e : region_hinges_) hinge_mark_[e] = 0;
+  region_.clear();
+  touched_.clear();
+  region_triangles_.clear();
+  region_hinges_.clear();
+  const auto add = [&](int v) {
+    if (local_[v] < 0 && model.inverse_mass[v] > 0.0) {
+      local_[v] = static_cast<int>(region_.size());
+      region_.push_back(v);
+    }
+  };
+  int above = 0;
+  for (int i = 0; i < num_vertices_; ++i) {
+    if (!(h * gradient.col(i).norm() * model.inverse_mass[i] > tolerance)) continue;
+    ++above;
+    add(i);
+    for (int k = neighbour_starts_[i]; k < neighbour_starts_[i + 1]; ++k) add(neighbour_list_[k]);
+  }
+  const auto touch = [&](int v) {
+    if (!touched_mark_[v]) {
+      touched_mark_[v] = 1;
+      touched_.push_back(v);
+    }
+  };
+  for (const int v : region_) {
+    for (int k = triangle_starts_[v]; k < triangle_starts_[v + 1]; ++k) {
+      const int t = triangle_list_[k];
+      if (triangle_mark_[t]) continue;
+      triangle_mark_[t] = 1;
+      region_triangles_.push_back(t);
+      for (int c = 0; c < 3; ++c) touch(model.triangles(c, t));
+    }
+    for (int k = hinge_starts_[v]; k < hinge_starts_[v + 1]; ++k) {
+      const int e = hinge_list_[k];
+      if (hinge_mark_[e]) continue;
+      hinge_mark_[e] = 1;
+      region_hinges_.push_back(e);
+      for (int c = 0; c < 4; ++c) touch(model.bending.hinges(c, e));
+    }
+    touch(v);
+  }
+  return above;
+}
+
+double NewtonTail::region_potential(const ClothModel& model, const Vec3& gravity, double h,
+                                    const Positions& x_start, const Positions& x_hat, const Positions& x) const {
+  double value = 0.0;
+  for (const int t : region_triangles_) {
+    value += membrane_energy(x.col(model.triangles(0, t)), x.col(model.triangles(1, t)),
+                             x.col(model.triangles(2, t)), model.membrane.rest[t], model.membrane.material,
+                             nullptr, nullptr, false);
+  }
+  for (const int e : region_hinges_) {
+    const auto v = model.bending.hinges.col(e);
+    value += hinge_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), model.bending.rest[e],
+                                  model.bending.stiffness, nullptr, nullptr);
+  }
+  const double damping = model.mass_damping > 0.0 ? model.mass_damping / h : 0.0;
+  for (const int i : region_) {
+    const double m = model.mass[i];
+    value += 0.5 * m / (h * h) * (x.col(i) - x_hat.col(i)).squaredNorm() +
+             0.5 * damping * m * (x.col(i) - x_start.col(i)).squaredNorm() - m * gravity.dot(x.col(i));
+  }
+  return value;
+}
+
+void NewtonTail::assemble_region(const ClothModel& model, double h, const Positions& x, SparseHessian& hessian,
+                                 const HessianStencils& stencils) {
+  hessian.zero_block_rows(region_);
+  for (const int t : region_triangles_) {
+    Matrix9d element;
+    membrane_energy(x.col(model.triangles(0, t)), x.col(model.triangles(1, t)), x.col(model.triangles(2, t)),
+                    model.membrane.rest[t], model.membrane.material, nullptr, &element, true);
+    hessian.add_element<3>(stencils.triangles, t, element);
+  }
+  for (const int e : region_hinges_) {
+    const auto v = model.bending.hinges.col(e);
+    const HingeGaussNewton hinge = hinge_bending_gauss_newton(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]),
+                                                              model.bending.rest[e], model.bending.stiffness);
+    hessian.add_element_outer<4>(stencils.hinges, e, hinge.curvature, hinge.angle_gradient);
+  }
+  const double damping = model.mass_damping > 0.0 ? model.mass_damping / h : 0.0;
+  for (size_t k = 0; k < region_.size(); ++k) {
+    const int i = region_[k];
+    hessian.add_vertex_block(i, (model.mass[i] * (1.0 / (h * h) + damping)) * Mat3::Identity());
+    inverse_blocks_[k] = hessian.diagonal_block(i).inverse();
+  }
+}
+
+Vec3 NewtonTail::vertex_gradient(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
+                                 const Positions& x_hat, const Positions& x, int i) const {
+  const double m = model.mass[i];
+  const double damping = model.mass_damping > 0.0 ? model.mass_damping / h : 0.0;
+  Vec3 g = m / (h * h) * (x.col(i) - x_hat.col(i)) + damping * m * (x.col(i) - x_start.col(i)) - m * gravity;
+  for (int k = triangle_starts_[i]; k < triangle_starts_[i + 1]; ++k) {
+    const int t = triangle_list_[k];
+    Vector9d element;
+    membrane_energy(x.col(model.triangles(0, t)), x.col(model.triangles(1, t)), x.col(model.triangles(2, t)),
+                    model.membrane.rest[t], model.membrane.material, &element, nullptr, false);
+    g += element.segment<3>(3 * corner_of<3>(model.triangles, t, i));
+  }
+  for (int k = hinge_starts_[i]; k < hinge_starts_[i + 1]; ++k) {
+    const int e = hinge_list_[k];
+    const auto v = model.bending.hinges.col(e);
+    Vector12d element;
+    hinge_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), model.bending.rest[e],
+                         model.bending.stiffness, &element, nullptr);
+    g += element.segment<3>(3 * corner_of<4>(model.bending.hinges, e, i));
+  }
+  return g;
+}
+
+void NewtonTail::update_gradient(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
+                                 const Positions& x_hat, const Positions& x, Positions& gradient) {
+  for (const int i : touched_) {
+    gradient.col(i) = model.inverse_mass[i] > 0.0 ? vertex_gradient(model, gravity, h, x_start, x_hat, x, i)
+                                                  : Vec3::Zero();
+  }
+}
+
+bool NewtonTail::solve(const ClothModel& model, double h, const SparseHessian& hessian,
+                       const NewtonTailSettings& settings) {
+  const Eigen::Index size = 3 * static_cast<Eigen::Index>(region_.size());
+  auto dx = dx_.head(size);
+  auto r = r_.head(size);
+  auto z = z_.head(size);
+  auto p = p_.head(size);
+  auto q = q_.head(size);
+  dx.setZero();
+  r = -region_gradient_.head(size);
+  // Relative to the start, and tight enough that what CG leaves is under half the tolerance on
+  // every vertex (|r| bounds each vertex's h |r_i| / m_i once divided by the lightest mass).
+  double lightest = std::numeric_limits<double>::infinity();
+  for (const int i : region_) lightest = std::min(lightest, model.mass[i]);
+  const double threshold = std::min(settings.cg_tolerance * r.norm(), 0.5 * settings.tolerance * lightest / h);
+  const auto precondition = [&] {
+    for (size_t k = 0; k < region_.size(); ++k) z.segment<3>(3 * k) = inverse_blocks_[k] * r.segment<3>(3 * k);
+  };
+  precondition();
+  p = z;
+  double rz = r.dot(z);
+  for (int iteration = 0; iteration < settings.max_cg_iterations && r.norm() > threshold; ++iteration) {
+    hessian.multiply_region(region_, local_, p_, q_);
+    const double curvature = p.dot(q);
+    if (!(curvature > 0.0)) break;
+    const double alpha = rz / curvature;
+    dx += alpha * p;
+    r -= alpha * q;
+    precondition();
+    const double rz_next = r.dot(z);
+    p = z + (rz_next / rz) * p;
+    rz = rz_next;
+  }
+  return dx.allFinite() && dx.squaredNorm() > 0.0;
+}
+
+int NewtonTail::iterate(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
+                        const Positions& x_hat, const NewtonTailSettings& settings, SparseHessian& hessian,
+                        const HessianStencils& stencils, Positions& x, Positions& gradient) {
+  int free_vertices = 0;
+  for (int i = 0; i < num_vertices_; ++i) free_vertices += model.inverse_mass[i] > 0.0;
+  int iterations = 0;
+  while (iterations < settings.max_iterations) {
+    const int above = collect_region(model, h, settings.tolerance, gradient);
+    if (above == 0 || above > settings.largest_share * free_vertices) break;
+    assemble_region(model, h, x, hessian, stencils);
+    for (size_t k = 0; k < region_.size(); ++k) region_gradient_.segment<3>(3 * k) = gradient.col(region_[k]);
+    if (!solve(model, h, hessian, settings)) break;
+    const Eigen::Index size = 3 * static_cast<Eigen::Index>(region_.size());
+    const double slope = region_gradient_.head(size).dot(dx_.head(size));
+    if (!(slope < 0.0)) break;
+    const double before = region_potential(model, gravity, h, x_start, x_hat, x);
+    for (const int i : region_) saved_.col(i) = x.col(i);
+    bool accepted = false;
+    for (double alpha = 1.0; alpha > 1e-4; alpha *= 0.5) {
+      for (size_t k = 0; k < region_.size(); ++k) x.col(region_[k]) = saved_.col(region_[k]) + alpha * dx_.segment<3>(3 * k);
+      if (region_potential(model, gravity, h, x_start, x_hat, x) <= before + 1e-4 * alpha * slope) {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) {
+      for (const int i : region_) x.col(i) = saved_.col(i);
+      break;
+    }
+    update_gradient(model, gravity, h, x_start, x_hat, x, gradient);
+    ++iterations;
+  }
+  return iterations;
+}
+
+}  // namespace weft
