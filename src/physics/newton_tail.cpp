@@ -48,7 +48,8 @@ void NewtonTail::prepare(const ClothModel& model) {
   const Eigen::Matrix4Xi empty_hinges(4, 0);
   incidence_lists<3>(model.membrane.enabled() ? model.triangles : empty_triangles, n, triangle_starts_,
                      triangle_list_);
-  incidence_lists<4>(model.bending.enabled() ? model.bending.hinges : empty_hinges, n, hinge_starts_, hinge_list_);
+  incidence_lists<4>(model.bending.enabled() ? model.bending.hinges : empty_hinges, n, hinge_starts_,
+                     hinge_list_);
   std::vector<std::vector<int>> neighbours(n);
   for (int i = 0; i < n; ++i) {
     for (int k = triangle_starts_[i]; k < triangle_starts_[i + 1]; ++k) {
@@ -84,7 +85,8 @@ void NewtonTail::prepare(const ClothModel& model) {
   saved_.setZero(3, n);
 }
 
-int NewtonTail::collect_region(const ClothModel& model, double h, double tolerance, const Positions& gradient) {
+int NewtonTail::collect_region(const ClothModel& model, double h, double tolerance,
+                               const Positions& gradient) {
   for (const int v : region_) local_[v] = -1;
   for (const int v : touched_) touched_mark_[v] = 0;
   for (const int t : region_triangles_) triangle_mark_[t] = 0;
@@ -133,7 +135,8 @@ int NewtonTail::collect_region(const ClothModel& model, double h, double toleran
 }
 
 double NewtonTail::region_potential(const ClothModel& model, const Vec3& gravity, double h,
-                                    const Positions& x_start, const Positions& x_hat, const Positions& x) const {
+                                    const Positions& x_start, const Positions& x_hat,
+                                    const Positions& x) const {
   double value = 0.0;
   for (const int t : region_triangles_) {
     value += membrane_energy(x.col(model.triangles(0, t)), x.col(model.triangles(1, t)),
@@ -154,8 +157,8 @@ double NewtonTail::region_potential(const ClothModel& model, const Vec3& gravity
   return value;
 }
 
-void NewtonTail::assemble_region(const ClothModel& model, double h, const Positions& x, SparseHessian& hessian,
-                                 const HessianStencils& stencils) {
+void NewtonTail::assemble_region(const ClothModel& model, double h, const Positions& x,
+                                 SparseHessian& hessian, const HessianStencils& stencils) {
   hessian.zero_block_rows(region_);
   for (const int t : region_triangles_) {
     Matrix9d element;
@@ -165,8 +168,8 @@ void NewtonTail::assemble_region(const ClothModel& model, double h, const Positi
   }
   for (const int e : region_hinges_) {
     const auto v = model.bending.hinges.col(e);
-    const HingeGaussNewton hinge = hinge_bending_gauss_newton(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]),
-                                                              model.bending.rest[e], model.bending.stiffness);
+    const HingeGaussNewton hinge = hinge_bending_gauss_newton(
+        x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), model.bending.rest[e], model.bending.stiffness);
     hessian.add_element_outer<4>(stencils.hinges, e, hinge.curvature, hinge.angle_gradient);
   }
   const double damping = model.mass_damping > 0.0 ? model.mass_damping / h : 0.0;
@@ -177,8 +180,9 @@ void NewtonTail::assemble_region(const ClothModel& model, double h, const Positi
   }
 }
 
-Vec3 NewtonTail::vertex_gradient(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
-                                 const Positions& x_hat, const Positions& x, int i) const {
+Vec3 NewtonTail::vertex_gradient(const ClothModel& model, const Vec3& gravity, double h,
+                                 const Positions& x_start, const Positions& x_hat, const Positions& x,
+                                 int i) const {
   const double m = model.mass[i];
   const double damping = model.mass_damping > 0.0 ? model.mass_damping / h : 0.0;
   Vec3 g = m / (h * h) * (x.col(i) - x_hat.col(i)) + damping * m * (x.col(i) - x_start.col(i)) - m * gravity;
@@ -200,11 +204,12 @@ Vec3 NewtonTail::vertex_gradient(const ClothModel& model, const Vec3& gravity, d
   return g;
 }
 
-void NewtonTail::update_gradient(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
-                                 const Positions& x_hat, const Positions& x, Positions& gradient) {
+void NewtonTail::update_gradient(const ClothModel& model, const Vec3& gravity, double h,
+                                 const Positions& x_start, const Positions& x_hat, const Positions& x,
+                                 Positions& gradient) {
   for (const int i : touched_) {
-    gradient.col(i) = model.inverse_mass[i] > 0.0 ? vertex_gradient(model, gravity, h, x_start, x_hat, x, i)
-                                                  : Vec3::Zero();
+    gradient.col(i) =
+        model.inverse_mass[i] > 0.0 ? vertex_gradient(model, gravity, h, x_start, x_hat, x, i) : Vec3::Zero();
   }
 }
 
@@ -222,9 +227,11 @@ bool NewtonTail::solve(const ClothModel& model, double h, const SparseHessian& h
   // every vertex (|r| bounds each vertex's h |r_i| / m_i once divided by the lightest mass).
   double lightest = std::numeric_limits<double>::infinity();
   for (const int i : region_) lightest = std::min(lightest, model.mass[i]);
-  const double threshold = std::min(settings.cg_tolerance * r.norm(), 0.5 * settings.tolerance * lightest / h);
+  const double threshold =
+      std::min(settings.cg_tolerance * r.norm(), 0.5 * settings.tolerance * lightest / h);
   const auto precondition = [&] {
-    for (size_t k = 0; k < region_.size(); ++k) z.segment<3>(3 * k) = inverse_blocks_[k] * r.segment<3>(3 * k);
+    for (size_t k = 0; k < region_.size(); ++k)
+      z.segment<3>(3 * k) = inverse_blocks_[k] * r.segment<3>(3 * k);
   };
   precondition();
   p = z;
@@ -263,7 +270,8 @@ int NewtonTail::iterate(const ClothModel& model, const Vec3& gravity, double h, 
     for (const int i : region_) saved_.col(i) = x.col(i);
     bool accepted = false;
     for (double alpha = 1.0; alpha > 1e-4; alpha *= 0.5) {
-      for (size_t k = 0; k < region_.size(); ++k) x.col(region_[k]) = saved_.col(region_[k]) + alpha * dx_.segment<3>(3 * k);
+      for (size_t k = 0; k < region_.size(); ++k)
+        x.col(region_[k]) = saved_.col(region_[k]) + alpha * dx_.segment<3>(3 * k);
       if (region_potential(model, gravity, h, x_start, x_hat, x) <= before + 1e-4 * alpha * slope) {
         accepted = true;
         break;

@@ -24,7 +24,7 @@
 namespace weft {
 
 struct NewtonTailSettings {
-  double tolerance = 1e-2;     // m/s, the step's Newton tolerance
+  double tolerance = 1e-2;      // m/s, the step's Newton tolerance
   double largest_share = 0.02;  // the tail starts when at most this share of the vertices is above
   int max_iterations = 8;
   int max_cg_iterations = 200;
@@ -64,7 +64,8 @@ class NewtonTail {
   Vec3 vertex_gradient(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
                        const Positions& x_hat, const Positions& x, int i) const;
   // Region CG on the assembled rows; dx_ gets the step. Returns false if no descent direction.
-  bool solve(const ClothModel& model, double h, const SparseHessian& hessian, const NewtonTailSettings& settings);
+  bool solve(const ClothModel& model, double h, const SparseHessian& hessian,
+             const NewtonTailSettings& settings);
 
   int num_vertices_ = 0;
   // Incidence, CSR: the triangles and hinges of each vertex, and its neighbours.

@@ -115,30 +115,44 @@ void SparseHessian::zero_block_rows(const std::vector<int>& vertices) {
   for (const int a : vertices) std::fill(values + starts[3 * a], values + starts[3 * a + 3], 0.0);
 }
 
+namespace {
+
+// y[0..2] = block row a times x: the row's three scalar rows start at row0 and hold `width`
+// entries each, their block columns listed at `columns` (every third entry); `entries(c)` gives
+// x's three entries for scalar column c = 3b, or nullptr for a block left out.
+template <class Entries>
+void block_row_product(const double* row0, int width, const int* columns, Entries&& entries, double* y) {
+  const double* row1 = row0 + width;
+  const double* row2 = row1 + width;
+  double y0 = 0.0, y1 = 0.0, y2 = 0.0;
+  for (int k = 0; k < width; k += 3) {
+    const double* xb = entries(columns[k]);
+    if (xb == nullptr) continue;
+    const double x0 = xb[0], x1 = xb[1], x2 = xb[2];
+    y0 += row0[k] * x0 + row0[k + 1] * x1 + row0[k + 2] * x2;
+    y1 += row1[k] * x0 + row1[k + 1] * x1 + row1[k + 2] * x2;
+    y2 += row2[k] * x0 + row2[k + 1] * x1 + row2[k + 2] * x2;
+  }
+  y[0] = y0;
+  y[1] = y1;
+  y[2] = y2;
+}
+
+}  // namespace
+
 void SparseHessian::multiply_region(const std::vector<int>& rows, const std::vector<int>& local,
                                     const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   const int* starts = matrix_.outerIndexPtr();
   const int* columns = matrix_.innerIndexPtr();
   const double* values = matrix_.valuePtr();
+  const double* in = x.data();
+  const auto entries = [&](int column) -> const double* {
+    const int b = local[column / 3];
+    return b >= 0 ? in + 3 * b : nullptr;
+  };
   for (size_t k = 0; k < rows.size(); ++k) {
-    const int a = rows[k];
-    const int begin = starts[3 * a];
-    const int width = starts[3 * a + 1] - begin;
-    const double* row0 = values + begin;
-    const double* row1 = row0 + width;
-    const double* row2 = row1 + width;
-    double y0 = 0.0, y1 = 0.0, y2 = 0.0;
-    for (int j = 0; j < width; j += 3) {
-      const int b = local[columns[begin + j] / 3];
-      if (b < 0) continue;
-      const double x0 = x[3 * b], x1 = x[3 * b + 1], x2 = x[3 * b + 2];
-      y0 += row0[j] * x0 + row0[j + 1] * x1 + row0[j + 2] * x2;
-      y1 += row1[j] * x0 + row1[j + 1] * x1 + row1[j + 2] * x2;
-      y2 += row2[j] * x0 + row2[j + 1] * x1 + row2[j + 2] * x2;
-    }
-    y[3 * k] = y0;
-    y[3 * k + 1] = y1;
-    y[3 * k + 2] = y2;
+    const int begin = starts[3 * rows[k]];
+    block_row_product(values + begin, starts[3 * rows[k] + 1] - begin, columns + begin, entries, y.data() + 3 * k);
   }
 }
 
@@ -150,24 +164,11 @@ void SparseHessian::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const
   const double* values = matrix_.valuePtr();
   const double* in = x.data();
   double* out = y.data();
+  const auto entries = [&](int column) -> const double* { return in + column; };
 #pragma omp parallel for schedule(static)
   for (int a = 0; a < num_vertices_; ++a) {
     const int begin = starts[3 * a];
-    const int width = starts[3 * a + 1] - begin;
-    const double* row0 = values + begin;
-    const double* row1 = row0 + width;
-    const double* row2 = row1 + width;
-    double y0 = 0.0, y1 = 0.0, y2 = 0.0;
-    for (int k = 0; k < width; k += 3) {
-      const double* xb = in + columns[begin + k];
-      const double x0 = xb[0], x1 = xb[1], x2 = xb[2];
-      y0 += row0[k] * x0 + row0[k + 1] * x1 + row0[k + 2] * x2;
-      y1 += row1[k] * x0 + row1[k + 1] * x1 + row1[k + 2] * x2;
-      y2 += row2[k] * x0 + row2[k + 1] * x1 + row2[k + 2] * x2;
-    }
-    out[3 * a] = y0;
-    out[3 * a + 1] = y1;
-    out[3 * a + 2] = y2;
+    block_row_product(values + begin, starts[3 * a + 1] - begin, columns + begin, entries, out + 3 * a);
   }
 }
 

@@ -95,7 +95,8 @@ TEST(NewtonTail, FinishesALocalResidualMovingOnlyItsRegionAndKeepsTheGradientExa
   NewtonTailSettings settings;
   settings.tolerance = tolerance;
   settings.largest_share = 0.2;
-  const int iterations = tail.iterate(model, gravity, h, x_start, x_hat, settings, hessian, stencils, x, gradient);
+  const int iterations =
+      tail.iterate(model, gravity, h, x_start, x_hat, settings, hessian, stencils, x, gradient);
   EXPECT_GE(iterations, 1);
 
   Positions fresh;
