@@ -112,17 +112,7 @@ MeshTopology build_topology(const Triangles& triangles, int num_vertices) {
     topology.hinge_edges[h] = e;
   }
 
-  // Triangles around each vertex: counted, then filled in triangle order (a counting sort).
-  topology.vertex_triangle_start.assign(static_cast<std::size_t>(num_vertices) + 1, 0);
-  for (int t = 0; t < num_triangles; ++t) {
-    for (int k = 0; k < 3; ++k) ++topology.vertex_triangle_start[triangles(k, t) + 1];
-  }
-  for (int v = 0; v < num_vertices; ++v) topology.vertex_triangle_start[v + 1] += topology.vertex_triangle_start[v];
-  topology.vertex_triangles.resize(3 * static_cast<std::size_t>(num_triangles));
-  std::vector<int> fill(topology.vertex_triangle_start.begin(), topology.vertex_triangle_start.end() - 1);
-  for (int t = 0; t < num_triangles; ++t) {
-    for (int k = 0; k < 3; ++k) topology.vertex_triangles[fill[triangles(k, t)]++] = t;
-  }
+  vertex_incidence<3>(triangles, num_vertices, topology.vertex_triangle_start, topology.vertex_triangles);
   return topology;
 }
 

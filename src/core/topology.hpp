@@ -35,6 +35,24 @@ inline bool share_vertex(const Triangles& triangles, int s, int t) {
   return false;
 }
 
+// The elements around each vertex (elements: K x n_elements vertex indices in [0, num_vertices)),
+// in increasing element index: those of vertex v are list[starts[v] .. starts[v + 1]). Counted,
+// then filled in element order (a counting sort).
+template <int K>
+void vertex_incidence(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements, int num_vertices,
+                      std::vector<int>& starts, std::vector<int>& list) {
+  starts.assign(static_cast<std::size_t>(num_vertices) + 1, 0);
+  for (Eigen::Index e = 0; e < elements.cols(); ++e) {
+    for (int k = 0; k < K; ++k) ++starts[elements(k, e) + 1];
+  }
+  for (int v = 0; v < num_vertices; ++v) starts[v + 1] += starts[v];
+  list.assign(static_cast<std::size_t>(K) * elements.cols(), 0);
+  std::vector<int> fill(starts.begin(), starts.end() - 1);
+  for (Eigen::Index e = 0; e < elements.cols(); ++e) {
+    for (int k = 0; k < K; ++k) list[fill[elements(k, e)]++] = static_cast<int>(e);
+  }
+}
+
 // Builds the topology; throws std::invalid_argument if an index is outside [0, num_vertices)
 // or a triangle repeats a vertex.
 MeshTopology build_topology(const Triangles& triangles, int num_vertices);

@@ -4,27 +4,12 @@
 #include <cmath>
 #include <limits>
 
+#include "core/topology.hpp"
 #include "physics/hinge_bending.hpp"
 
 namespace weft {
 
 namespace {
-
-// CSR lists of the elements (columns of `elements`, K rows) of each of n vertices.
-template <int K>
-void incidence_lists(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements, int n, std::vector<int>& starts,
-                     std::vector<int>& list) {
-  starts.assign(n + 1, 0);
-  for (Eigen::Index e = 0; e < elements.cols(); ++e) {
-    for (int k = 0; k < K; ++k) ++starts[elements(k, e) + 1];
-  }
-  for (int i = 0; i < n; ++i) starts[i + 1] += starts[i];
-  list.assign(starts[n], 0);
-  std::vector<int> fill(starts.begin(), starts.end() - 1);
-  for (Eigen::Index e = 0; e < elements.cols(); ++e) {
-    for (int k = 0; k < K; ++k) list[fill[elements(k, e)]++] = static_cast<int>(e);
-  }
-}
 
 template <int K>
 int corner_of(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements, int e, int vertex) {
@@ -46,10 +31,10 @@ void NewtonTail::prepare(const ClothModel& model) {
   num_vertices_ = n;
   const Triangles empty_triangles(3, 0);
   const Eigen::Matrix4Xi empty_hinges(4, 0);
-  incidence_lists<3>(model.membrane.enabled() ? model.triangles : empty_triangles, n, triangle_starts_,
-                     triangle_list_);
-  incidence_lists<4>(model.bending.enabled() ? model.bending.hinges : empty_hinges, n, hinge_starts_,
-                     hinge_list_);
+  vertex_incidence<3>(model.membrane.enabled() ? model.triangles : empty_triangles, n, triangle_starts_,
+                      triangle_list_);
+  vertex_incidence<4>(model.bending.enabled() ? model.bending.hinges : empty_hinges, n, hinge_starts_,
+                      hinge_list_);
   std::vector<std::vector<int>> neighbours(n);
   for (int i = 0; i < n; ++i) {
     for (int k = triangle_starts_[i]; k < triangle_starts_[i + 1]; ++k) {
