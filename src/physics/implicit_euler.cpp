@@ -137,7 +137,8 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   const double start_value = value;
   int diverging = 0;
   double cg_tolerance = std::max(settings.cg_tolerance, settings.cg_initial_tolerance);
-  const bool use_tail = tail_supported_ && penalty_ == nullptr && !exact_first && settings.restricted_tail_share > 0.0;
+  const bool use_tail =
+      tail_supported_ && penalty_ == nullptr && !exact_first && settings.restricted_tail_share > 0.0;
   NewtonTailSettings tail_settings;
   tail_settings.tolerance = settings.newton_tolerance;
   tail_settings.largest_share = settings.restricted_tail_share;
@@ -229,12 +230,13 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     if (use_tail && !report_.converged) {
       // The residual left on a few vertices: iterations on their region, then the whole cloth's
       // gradient again, so that the residual judged is the cloth's.
-      const int restricted =
-          tail_.iterate(model, gravity, h, x_start_, x_hat_, tail_settings, hessian_, stencils_, x, gradient_);
+      const int restricted = tail_.iterate(model, gravity, h, x_start_, x_hat_, tail_settings, hessian_,
+                                           stencils_, x, gradient_);
       if (restricted > 0) {
         report_.newton_iterations += restricted;
         report_.restricted_iterations += restricted;
-        value = incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/false, /*project=*/false);
+        value =
+            incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/false, /*project=*/false);
         assembled = false;
         report_.residual = newton_residual(gradient_, model.inverse_mass, h);
         report_.converged = report_.residual < settings.newton_tolerance;

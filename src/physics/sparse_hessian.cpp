@@ -152,7 +152,8 @@ void SparseHessian::multiply_region(const std::vector<int>& rows, const std::vec
   };
   for (size_t k = 0; k < rows.size(); ++k) {
     const int begin = starts[3 * rows[k]];
-    block_row_product(values + begin, starts[3 * rows[k] + 1] - begin, columns + begin, entries, y.data() + 3 * k);
+    block_row_product(values + begin, starts[3 * rows[k] + 1] - begin, columns + begin, entries,
+                      y.data() + 3 * k);
   }
 }
 

@@ -139,7 +139,9 @@ TEST(NewtonTail, TheResidualAStepReportsIsTheWholeCloths) {
     full_potential(cloth.model, gravity, h, x_start, x_hat, cloth.state.x, gradient);
     const double residual = newton_residual(gradient, cloth.model.inverse_mass, h);
     EXPECT_NEAR(report.residual, residual, 1e-9 * std::max(residual, 1.0)) << "step " << k;
-    if (report.converged) EXPECT_LT(residual, settings.newton_tolerance) << "step " << k;
+    if (report.converged) {
+      EXPECT_LT(residual, settings.newton_tolerance) << "step " << k;
+    }
   }
   std::printf("%d restricted iterations over 60 steps\n", restricted);
   EXPECT_GT(restricted, 0);
