@@ -7,10 +7,12 @@
 // code 0: every frame clean;
 // 1: a violation (the run stops there); 2: bad input.
 //   weft_check_scene scenes/twist.json [--set path=value ...] [--frames N] [--threads N]
-//                    [--resume DIR/checkpoint.bin] [--every-step]
+//                    [--resume DIR/checkpoint.bin] [--every-step] [--keep-going]
 // --resume starts from a headless run's checkpoint (`weft --headless --checkpoint-every N`);
 // --every-step checks after every step instead of every frame (one line per step), to find the
-// step where a violation first appears.
+// step where a violation first appears; --keep-going runs on past invariant violations (each
+// named on stderr, the exit code 1 at the end) to see how a run fares after its first one
+// (divergence still stops it).
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -27,7 +29,7 @@
 int main(int argc, char** argv) {
   using namespace weft;
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s scene.json [--set path=value ...] [--frames N] [--threads N] [--resume FILE] [--every-step]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s scene.json [--set path=value ...] [--frames N] [--threads N] [--resume FILE] [--every-step] [--keep-going]\n", argv[0]);
     return 2;
   }
   std::vector<std::string> overrides;
@@ -35,6 +37,7 @@ int main(int argc, char** argv) {
   int threads = 1;
   std::string resume;
   bool every_step = false;
+  bool keep_going = false;
   for (int k = 2; k < argc; ++k) {
     const bool has_value = k + 1 < argc;
     if (std::strcmp(argv[k], "--set") == 0 && has_value) {
@@ -47,6 +50,8 @@ int main(int argc, char** argv) {
       resume = argv[++k];
     } else if (std::strcmp(argv[k], "--every-step") == 0) {
       every_step = true;
+    } else if (std::strcmp(argv[k], "--keep-going") == 0) {
+      keep_going = true;
     } else {
       std::fprintf(stderr, "unknown or incomplete argument: %s\n", argv[k]);
       return 2;
@@ -65,6 +70,7 @@ int main(int argc, char** argv) {
     if (frames < 0) frames = scene.frames;
     const testing::SceneInvariants invariants(world);
     const FrameSchedule schedule = frame_schedule(scene.fps, scene.time_step);
+    int violations = 0;
     std::printf("frame,step,time,steps,contacts,intersecting_pairs,vertices_crossed,step_ms,collision_ms,broad_ms,"
                 "narrow_ms,response_ms,newton_iterations,linear_iterations,impact_zone_vertices,collisions_clean,largest_strain,"
                 "largest_edge_stretch\n");
@@ -83,7 +89,8 @@ int main(int argc, char** argv) {
       }
       if (report.ok()) return true;
       std::fprintf(stderr, "%s: frame %d step %d: %s\n", argv[1], frame, step, report.first.c_str());
-      return false;
+      ++violations;
+      return keep_going;
     };
     testing::InvariantReport report = invariants.check(world);
     if (!print(first_frame, 0, StepStats{}, report)) return 1;
@@ -102,9 +109,9 @@ int main(int argc, char** argv) {
         if (!print(frame, schedule.steps_per_frame, totals, report)) return 1;
       }
     }
+    return violations > 0 ? 1 : 0;
   } catch (const std::exception& error) {
     std::fprintf(stderr, "%s\n", error.what());
     return 2;
   }
-  return 0;
 }

@@ -17,6 +17,6 @@ set_tests_properties(
   AdaptiveStepping.StiffUndampedSpringsStayNearTheReferenceAndCreateNoEnergy
   # 2 min each: full-length collision scenes; the shorter CollisionScenes tests (twist, soft
   # balls, tumble dryer, drape) run the same collision phase.
-  CollisionScenes.FiveTurnTwistStaysCleanAndWithinTheStrainLimit
+  CollisionScenes.FiveTurnTwistStaysCleanAndReportsEveryEdgeOverTheStrainLimit
   CollisionScenes.FastImpactOnThinBoxesStaysWithinTheStrainLimit
   PROPERTIES LABELS not_under_asan)

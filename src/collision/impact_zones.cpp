@@ -169,8 +169,16 @@ ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<Ver
     }
   }
 
-  // Fail-safe of the fail-safe: stop the zones, then everything of finite mass.
+  // Fail-safe of the fail-safe. A motion the last pass left free of collisions is kept: only edges
+  // over the strain limit remain, held by a zone whose pins move non-rigidly (a fixed and a
+  // turning edge), and stopping the zone would let the pins stretch them further. Otherwise stop
+  // the zones, then everything of finite mass.
   if (!result.clean) {
+    detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
+    find_stretched();
+    result.clean = collisions.empty() && stretched.empty();
+  }
+  if (!result.clean && !collisions.empty()) {
     result.stopped = true;
     for (int v : members) stop_vertex(step, v);
     detect_collisions(step, vertex_faces, edge_edges, settings, collisions);

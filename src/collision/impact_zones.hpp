@@ -41,10 +41,13 @@ struct ImpactZoneResult {
 // written to x_end and velocity of the vertices with finite mass.
 void apply_rigid_motion(CollisionStep& step, const int* vertices, int count);
 
-// Detects and merges zones up to settings.max_impact_zone_passes times. If collisions (or edges
-// over `strain`'s limit, when given) remain, the vertices in zones, and then if needed every
-// vertex of finite mass, stop for the step: starting from a state without intersection and
-// within the limit this ends so unless infinite-mass vertices collide.
+// Detects and merges zones up to settings.max_impact_zone_passes times. If collisions remain,
+// the vertices in zones, and then if needed every vertex of finite mass, stop for the step:
+// starting from a state without intersection this ends so unless infinite-mass vertices collide.
+// If only edges over `strain`'s limit (when given) remain, the collision-free motion is kept and
+// the result is not clean: a zone holding infinite-mass vertices that move non-rigidly with
+// respect to each other (a fixed and a turning pinned edge) has no rigid motion that follows
+// them all, and its edges to them can stay over the limit.
 ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
                                       const std::vector<EdgeEdgePair>& edge_edges,
                                       const ResponseSettings& settings, ImpactZoneWorkspace& workspace,

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <vector>
 
@@ -84,6 +85,26 @@ TEST(ImpactZones, AnEdgeStretchedAtTheStartIsNotMadeWorse) {
   ImpactZoneWorkspace workspace;
   EXPECT_TRUE(resolve_impact_zones(step, {}, {}, ResponseSettings{}, workspace, &bound).clean);
   EXPECT_LE(strip.length_at_end(0), 0.3 * (1.0 + 1e-9));
+}
+
+TEST(ImpactZones, PinsMovingApartLeaveTheStepUncleanWithoutStoppingWhatTheyHold) {
+  // Vertex 0 pinned in place, vertex 2 pinned and pulled 0.5 m along the strip, vertex 1 free
+  // between them: edges pull it into one zone with both pins, and no rigid motion follows both.
+  // The step is reported unclean; the collision-free zone motion is kept (vertex 1 halfway),
+  // not stopped (which would leave edge 1-2 at 6x its rest length).
+  Strip strip(3, [](int i) { return i == 2 ? Vec3(0.5, 0.0, 0.0) : Vec3::Zero(); });
+  strip.scene.inverse_mass[0] = 0.0;
+  strip.scene.inverse_mass[2] = 0.0;
+  CollisionStep step = strip.scene.step();
+  const StrainBound bound{strip.rest_length, 1.0};
+  ImpactZoneWorkspace workspace;
+  const ImpactZoneResult result = resolve_impact_zones(step, {}, {}, ResponseSettings{}, workspace, &bound);
+  EXPECT_FALSE(result.clean);
+  EXPECT_FALSE(result.stopped);
+  EXPECT_EQ(result.zones, 1);
+  EXPECT_NEAR(strip.scene.x_end(0, 2), 0.7, 1e-12) << "the pin keeps its motion";
+  EXPECT_NEAR(strip.scene.x_end(0, 1), 0.35, 1e-9) << "halfway, with the pins' mean motion";
+  EXPECT_LT(std::max(strip.length_at_end(0), strip.length_at_end(1)), 0.36);
 }
 
 }  // namespace

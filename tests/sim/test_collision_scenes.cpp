@@ -125,12 +125,40 @@ TEST(CollisionScenes, TwistStaysClean) {
   EXPECT_GT(run.steps_with_contacts, 10) << "a twisted cloth touches itself";
 }
 
-TEST(CollisionScenes, FiveTurnTwistStaysCleanAndWithinTheStrainLimit) {
-  // Five full turns (1800 degrees) in 2.5 s instead of 5 s: the rope winds tight, the zones grow
-  // large, and every edge must stay within 2x (strain_limit 1) in every frame.
-  const SceneRun run = run_twist("twist_five_turns", 720, 75);
-  expect_clean(run, 75);
-  EXPECT_GT(run.steps_with_contacts, 100) << "a twisted cloth touches itself";
+// Five full turns (1800 degrees) in 2.5 s instead of 5 s: the rope winds tight and its zones grow
+// until one holds vertices of both pinned edges, the fixed and the turning one. No rigid motion
+// follows both, so there the strain limit can give way (the zones stop what they hold and the
+// turning pins pull their edges past it; docs/collision.md step 5) while nothing may pass
+// through. Whether it comes to that depends on the trajectory's rounding (it did after a change
+// of the Hessian product's summation order, 2026-11-26), so the test asserts the contract that
+// holds on every trajectory: no intersecting pair and no crossed vertex in any frame, and an edge
+// over the limit only at the end of a frame in which some step reported its collision response
+// unclean.
+TEST(CollisionScenes, FiveTurnTwistStaysCleanAndReportsEveryEdgeOverTheStrainLimit) {
+  const SceneDesc scene =
+      load("twist_five_turns", {"cloths.0.grid.resolution=[16,8]", "cloths.0.moving_pins.0.angular_velocity_degrees=720",
+                                "solver.newton.max_iterations=10"});
+  World world = build_world(scene);
+  const testing::SceneInvariants invariants(world);
+  const FrameSchedule schedule = frame_schedule(scene.fps, scene.time_step);
+  constexpr int frames = 75;
+  int steps_with_contacts = 0;
+  for (int frame = 1; frame <= frames; ++frame) {
+    bool reported_unclean = false;
+    for (int step = 0; step < schedule.steps_per_frame; ++step) {
+      world.step();
+      if (world.last_step_stats().contacts > 0) ++steps_with_contacts;
+      reported_unclean = reported_unclean || !world.last_step_stats().collisions_clean;
+    }
+    const testing::InvariantReport report = invariants.check(world);
+    ASSERT_EQ(report.intersecting_pairs, 0) << "frame " << frame << ": " << report.first;
+    ASSERT_EQ(report.vertices_crossed, 0) << "frame " << frame << ": " << report.first;
+    if (report.edges_over_limit > 0) {
+      ASSERT_TRUE(reported_unclean) << "frame " << frame << " ends over the strain limit after steps reported clean: "
+                                    << report.first;
+    }
+  }
+  EXPECT_GT(steps_with_contacts, 100) << "a twisted cloth touches itself";
 }
 
 TEST(CollisionScenes, FastDropStaysClean) {
