@@ -70,8 +70,14 @@ void NewtonTail::prepare(const ClothModel& model) {
   saved_.setZero(3, n);
 }
 
-int NewtonTail::collect_region(const ClothModel& model, double h, double tolerance,
+int NewtonTail::collect_region(const ClothModel& model, double h, double tolerance, double largest,
                                const Positions& gradient) {
+  const auto is_above = [&](int i) { return h * gradient.col(i).norm() * model.inverse_mass[i] > tolerance; };
+  // Counted first: most calls (early global iterations) find too many to go on.
+  int above = 0;
+  for (int i = 0; i < num_vertices_; ++i) above += is_above(i) ? 1 : 0;
+  if (above == 0 || above > largest) return above;
+
   for (const int v : region_) local_[v] = -1;
   for (const int v : touched_) touched_mark_[v] = 0;
   for (const int t : region_triangles_) triangle_mark_[t] = 0;
@@ -86,10 +92,8 @@ int NewtonTail::collect_region(const ClothModel& model, double h, double toleran
       region_.push_back(v);
     }
   };
-  int above = 0;
   for (int i = 0; i < num_vertices_; ++i) {
-    if (!(h * gradient.col(i).norm() * model.inverse_mass[i] > tolerance)) continue;
-    ++above;
+    if (!is_above(i)) continue;
     add(i);
     for (int k = neighbour_starts_[i]; k < neighbour_starts_[i + 1]; ++k) add(neighbour_list_[k]);
   }
@@ -243,8 +247,9 @@ int NewtonTail::iterate(const ClothModel& model, const Vec3& gravity, double h, 
   for (int i = 0; i < num_vertices_; ++i) free_vertices += model.inverse_mass[i] > 0.0;
   int iterations = 0;
   while (iterations < settings.max_iterations) {
-    const int above = collect_region(model, h, settings.tolerance, gradient);
-    if (above == 0 || above > settings.largest_share * free_vertices) break;
+    const double largest = settings.largest_share * free_vertices;
+    const int above = collect_region(model, h, settings.tolerance, largest, gradient);
+    if (above == 0 || above > largest) break;
     assemble_region(model, h, x, hessian, stencils);
     for (size_t k = 0; k < region_.size(); ++k) region_gradient_.segment<3>(3 * k) = gradient.col(region_[k]);
     if (!solve(model, h, hessian, settings)) break;

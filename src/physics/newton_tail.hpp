@@ -48,9 +48,9 @@ class NewtonTail {
               const HessianStencils& stencils, Positions& x, Positions& gradient);
 
  private:
-  // Collects the region (above the tolerance plus neighbours, free only) and the elements that
-  // touch it; returns the number of vertices above the tolerance.
-  int collect_region(const ClothModel& model, double h, double tolerance, const Positions& gradient);
+  // Counts the vertices above the tolerance and returns the count; when it is within (0, largest],
+  // collects the region (those vertices plus neighbours, free only) and the elements that touch it.
+  int collect_region(const ClothModel& model, double h, double tolerance, double largest, const Positions& gradient);
   // The part of the incremental potential that the region's vertices enter.
   double region_potential(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
                           const Positions& x_hat, const Positions& x) const;
