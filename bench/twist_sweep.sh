@@ -6,6 +6,7 @@
 # 75 when the run diverged), frames ending over the strain limit, frames with intersecting
 # triangle pairs, frames with a step reported unclean, the largest edge stretch.
 #   bench/twist_sweep.sh [speed ...]     (default: 660 680 700 720 740 760 780)
+#   FRAMES=150 bench/twist_sweep.sh 320 340 360 380 400   (the shipped speed's five turns)
 set -uo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -16,7 +17,7 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 echo "deg/s frames over_limit intersecting unclean largest_stretch"
 for speed in "${speeds[@]}"; do
-  build/release/bench/weft_check_scene scenes/twist_five_turns.json --frames 75 --keep-going \
+  build/release/bench/weft_check_scene scenes/twist_five_turns.json --frames "${FRAMES:-75}" --keep-going \
     --set 'cloths.0.grid.resolution=[16,8]' --set "cloths.0.moving_pins.0.angular_velocity_degrees=$speed" \
     --set solver.newton.max_iterations=10 --set solver.newton.tolerance=1e-3 \
     > "$out/run.csv" 2> "$out/run.err"
