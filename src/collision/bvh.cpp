@@ -144,25 +144,27 @@ void Bvh::build_nodes() {
   if (num_triangles == 0) return;
   nodes_.reserve(2 * static_cast<std::size_t>(num_triangles));
 
-  std::vector<Vec3> centroids(num_triangles);
+  std::vector<Vec3>& centroids = centroids_;
+  centroids.resize(num_triangles);
   for (int t = 0; t < num_triangles; ++t)
     centroids[t] = 0.5 * (triangle_boxes_[t].lower + triangle_boxes_[t].upper);
 
   const int num_bins = settings_.sah_bins;
-  std::vector<Aabb> bin_boxes(num_bins);
-  std::vector<int> bin_counts(num_bins);
-  std::vector<double> right_areas(num_bins);
+  std::vector<Aabb>& bin_boxes = bin_boxes_;
+  std::vector<int>& bin_counts = bin_counts_;
+  std::vector<double>& right_areas = right_areas_;
+  bin_boxes.resize(num_bins);
+  bin_counts.resize(num_bins);
+  right_areas.resize(num_bins);
 
   // Top-down with an explicit stack of triangle ranges. The left child is pushed last so it is
   // created right after its parent (preorder); a right child tells its parent where it landed.
-  struct Range {
-    int begin;
-    int end;
-    int parent_of_right;  // the parent whose right child this range becomes, or -1
-  };
-  std::vector<Range> ranges{{0, num_triangles, -1}};
+  // The stack grows by at most one range per level, and there are at most num_triangles levels.
+  std::vector<BuildRange>& ranges = ranges_;
+  ranges.reserve(static_cast<std::size_t>(num_triangles) + 1);
+  ranges.assign(1, BuildRange{0, num_triangles, -1});
   while (!ranges.empty()) {
-    const Range range = ranges.back();
+    const BuildRange range = ranges.back();
     ranges.pop_back();
     const int index = static_cast<int>(nodes_.size());
     nodes_.emplace_back();

@@ -113,6 +113,17 @@ class Bvh {
   std::vector<Aabb> leaf_boxes_;      // (n_triangles) triangle_boxes_ in triangle_order_
   std::vector<int> triangle_order_;   // (n_triangles)
   std::vector<BvhNode> nodes_;        // depth-first preorder; empty when there are no triangles
+  // build_nodes' scratch, kept so that a rebuild during a steady-state step allocates nothing.
+  struct BuildRange {
+    int begin;
+    int end;
+    int parent_of_right;  // the parent whose right child this range becomes, or -1
+  };
+  std::vector<Vec3> centroids_;
+  std::vector<Aabb> bin_boxes_;
+  std::vector<int> bin_counts_;
+  std::vector<double> right_areas_;
+  std::vector<BuildRange> ranges_;
   double cost_ = 0.0;
   double cost_at_build_ = 0.0;
   int builds_ = 0;
