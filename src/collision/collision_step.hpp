@@ -2,6 +2,8 @@
 // The flat interface of the collision response: one step's motion over a combined vertex index
 // space (every cloth, soft body and collider mesh together), and the settings of the response.
 // Whatever broad phase produced the candidate pairs, the response reads and corrects only this.
+#include <vector>
+
 #include "core/math.hpp"
 
 namespace weft {
@@ -15,6 +17,9 @@ struct CollisionStep {
   const Triangles& triangles;           // (3 x n_triangles)
   const Eigen::Matrix2Xi& edges;        // (2 x n_edges)
   double time_step;                     // h (s)
+  // (n_vertices) or null: 1 for the infinite-mass vertices that the impact zones' last fail-safe
+  // may hold at their start (cloth pins, whose script then lags), 0 for those it cannot (colliders).
+  const std::vector<char>* holdable = nullptr;
 };
 
 struct ResponseSettings {

@@ -188,6 +188,21 @@ ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<Ver
       detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
       find_stretched();
     }
+    // Still colliding with everything of finite mass at its start: pins are driving cloth through
+    // cloth (a zone holding a fixed and a turning pinned edge, which no rigid motion follows).
+    // Holding them too restores the start, which had no intersection; their script lags a step.
+    if (!collisions.empty() && step.holdable != nullptr) {
+      for (int v = 0; v < n; ++v) {
+        if (step.inverse_mass[v] == 0.0 && (*step.holdable)[v] && step.x_end.col(v) != step.x_start.col(v)) {
+          move_end_to(step, v, step.x_start.col(v));
+          ++result.held;
+        }
+      }
+      if (result.held > 0) {
+        detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
+        find_stretched();
+      }
+    }
     result.clean = collisions.empty() && stretched.empty();
   }
 

@@ -35,6 +35,7 @@ struct ImpactZoneResult {
   int zone_vertices = 0;  // vertices in those zones
   bool clean = false;     // the final motion has no collision
   bool stopped = false;   // the pass limit was reached and free vertices were stopped (x_end = x_start)
+  int held = 0;           // holdable infinite-mass vertices (pins) held at their start, as a last resort
 };
 
 // Rigid motion of the given vertices over the step, fitted to their current motion (see above),
@@ -42,8 +43,9 @@ struct ImpactZoneResult {
 void apply_rigid_motion(CollisionStep& step, const int* vertices, int count);
 
 // Detects and merges zones up to settings.max_impact_zone_passes times. If collisions remain,
-// the vertices in zones, and then if needed every vertex of finite mass, stop for the step:
-// starting from a state without intersection this ends so unless infinite-mass vertices collide.
+// the vertices in zones, then if needed every vertex of finite mass, then the holdable
+// infinite-mass ones (step.holdable: pins), stop for the step: starting from a state without
+// intersection this ends so unless vertices that cannot be held (colliders) collide.
 // If only edges over `strain`'s limit (when given) remain, the collision-free motion is kept and
 // the result is not clean: a zone holding infinite-mass vertices that move non-rigidly with
 // respect to each other (a fixed and a turning pinned edge) has no rigid motion that follows

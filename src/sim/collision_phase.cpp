@@ -66,6 +66,7 @@ void CollisionPhase::set_meshes(const std::vector<Cloth>& cloths, const std::vec
   triangles_.resize(3, offsets.triangle);
   edges_.resize(2, offsets.edge);
   vertex_mesh_.assign(offsets.vertex, 0);
+  holdable_.assign(offsets.vertex, 0);
   edge_rest_length_.assign(offsets.edge, 0.0);
   for (size_t m = 0; m < meshes_.size(); ++m) {
     const MeshSlot& slot = meshes_[m];
@@ -74,6 +75,7 @@ void CollisionPhase::set_meshes(const std::vector<Cloth>& cloths, const std::vec
         slot.topology.edges.array() + slot.offsets.vertex;
     std::fill_n(vertex_mesh_.begin() + slot.offsets.vertex, slot.num_vertices, static_cast<int>(m));
     if (m < cloths.size()) {
+      std::fill_n(holdable_.begin() + slot.offsets.vertex, slot.num_vertices, 1);
       inverse_mass_.segment(slot.offsets.vertex, slot.num_vertices) = cloths[m].model.inverse_mass;
       const Positions& rest = cloths[m].model.rest_positions;
       for (int e = 0; e < slot.topology.num_edges(); ++e) {
@@ -142,7 +144,7 @@ void CollisionPhase::gather_motion(const std::vector<Cloth>& cloths, double t, d
 }
 
 CollisionStep CollisionPhase::make_step() {
-  return CollisionStep{x_start_, x_end_, velocity_, inverse_mass_, triangles_, edges_, time_step_};
+  return CollisionStep{x_start_, x_end_, velocity_, inverse_mass_, triangles_, edges_, time_step_, &holdable_};
 }
 
 // Swept boxes over the current motion (each mesh's triangles, vertices and edges), each inflated
@@ -479,7 +481,8 @@ void CollisionPhase::apply_impact_zones() {
       resolve_impact_zones(step, candidates_.vertex_face, candidates_.edge_edge, ccd_settings(), zone_workspace_,
                            settings.strain_limit > 0.0 ? &strain : nullptr);
   stats_.impact_zone_vertices += zones.zone_vertices;
-  stats_.clean = zones.clean;
+  // Pins held at their start did not follow their script: the step is not reported clean.
+  stats_.clean = zones.clean && zones.held == 0;
   stats_.response_ms += milliseconds_since(start);
 }
 

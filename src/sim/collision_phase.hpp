@@ -200,6 +200,7 @@ class CollisionPhase {
   Eigen::Matrix2Xi edges_;                // (2 x n_edges)
   std::vector<double> edge_rest_length_;  // (n_edges) cloth edges at rest; 0 for collider edges
   std::vector<int> vertex_mesh_;          // mesh of each combined vertex (n_vertices)
+  std::vector<char> holdable_;            // 1 for cloth vertices (CollisionStep::holdable), 0 for colliders
 
   // Scratch kept between steps.
   BvhQueryBuffers buffers_;

@@ -107,5 +107,48 @@ TEST(ImpactZones, PinsMovingApartLeaveTheStepUncleanWithoutStoppingWhatTheyHold)
   EXPECT_LT(std::max(strip.length_at_end(0), strip.length_at_end(1)), 0.36);
 }
 
+TEST(ImpactZones, PinsDrivingClothThroughClothAreHeldWhereTheyMayBe) {
+  // A free vertex 1 mm above a still pinned triangle; a pinned triangle 2 mm above it comes down
+  // to 0.5 mm over the step. With no zone pass (straight to the fail-safe) the free vertex stops,
+  // and the pins still drive the upper triangle through it. Where the pins may be held (cloth
+  // pins, step.holdable) they are, and the step ends at its collision-free start; where they may
+  // not (colliders) the result says it is not clean.
+  for (const bool may_hold : {false, true}) {
+    SCOPED_TRACE(may_hold ? "pins may be held" : "pins may not be held");
+    test::CollisionScene scene;
+    const Vec3 still = Vec3::Zero();
+    const Vec3 down(0.0, -0.0015 / scene.h, 0.0);
+    for (const Vec3& corner : {Vec3(-0.1, 0.0, -0.1), Vec3(0.1, 0.0, -0.1), Vec3(0.0, 0.0, 0.1)})
+      scene.add_vertex(corner, still, 0.0);
+    const int free_vertex = scene.add_vertex(Vec3(0.0, 0.001, 0.0), still, 1.0);
+    for (const Vec3& corner : {Vec3(-0.1, 0.002, -0.1), Vec3(0.1, 0.002, -0.1), Vec3(0.0, 0.002, 0.1)})
+      scene.add_vertex(corner, down, 0.0);
+    scene.add_triangle(0, 1, 2);
+    scene.add_triangle(4, 5, 6);
+    CollisionStep step = scene.step();
+    const std::vector<char> holdable(scene.x_start.cols(), may_hold ? 1 : 0);
+    step.holdable = &holdable;
+    ResponseSettings settings;
+    settings.max_impact_zone_passes = 0;
+    ImpactZoneWorkspace workspace;
+    const ImpactZoneResult result =
+        resolve_impact_zones(step, scene.all_vertex_faces(), scene.all_edge_edges(), settings, workspace);
+    EXPECT_TRUE(result.stopped);
+    const bool crossed = test::segment_hits_triangle(scene.x_start.col(free_vertex), scene.x_end.col(free_vertex),
+                                                     scene.x_end.col(4), scene.x_end.col(5), scene.x_end.col(6));
+    if (may_hold) {
+      EXPECT_TRUE(result.clean);
+      EXPECT_EQ(result.held, 3);
+      EXPECT_TRUE(scene.x_end == scene.x_start) << "everything at its start";
+      EXPECT_TRUE(scene.velocity.isZero(1e-12));
+    } else {
+      EXPECT_FALSE(result.clean);
+      EXPECT_EQ(result.held, 0);
+      EXPECT_NEAR(scene.x_end(1, 4), 0.0005, 1e-12) << "a pin that may not be held keeps its motion";
+    }
+    EXPECT_FALSE(may_hold && crossed);
+  }
+}
+
 }  // namespace
 }  // namespace weft
