@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/topology.hpp"
+#include "physics/bending.hpp"
 #include "physics/hinge_bending.hpp"
 
 namespace weft {
@@ -22,8 +23,7 @@ int corner_of(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements, int e, int 
 }  // namespace
 
 bool NewtonTail::supports(const ClothModel& model) {
-  return model.springs.size() == 0 && !model.air_drag.enabled() && !model.pressure.enabled &&
-         (!model.bending.enabled() || model.bending.model == BendingModel::dihedral);
+  return model.springs.size() == 0 && !model.air_drag.enabled() && !model.pressure.enabled;
 }
 
 void NewtonTail::prepare(const ClothModel& model) {
@@ -132,11 +132,7 @@ double NewtonTail::region_potential(const ClothModel& model, const Vec3& gravity
                              x.col(model.triangles(2, t)), model.membrane.rest[t], model.membrane.material,
                              nullptr, nullptr, false);
   }
-  for (const int e : region_hinges_) {
-    const auto v = model.bending.hinges.col(e);
-    value += hinge_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), model.bending.rest[e],
-                                  model.bending.stiffness, nullptr, nullptr);
-  }
+  for (const int e : region_hinges_) value += bending_element_energy(model.bending, e, x, nullptr);
   const double damping = model.mass_damping > 0.0 ? model.mass_damping / h : 0.0;
   for (const int i : region_) {
     const double m = model.mass[i];
@@ -156,6 +152,12 @@ void NewtonTail::assemble_region(const ClothModel& model, double h, const Positi
     hessian.add_element<3>(stencils.triangles, t, element);
   }
   for (const int e : region_hinges_) {
+    if (model.bending.model == BendingModel::quadratic) {
+      hessian.add_element_isotropic<4>(
+          stencils.hinges, e,
+          quadratic_bending_hessian_coefficients(model.bending.quadratic[e], model.bending.stiffness));
+      continue;
+    }
     const auto v = model.bending.hinges.col(e);
     const HingeGaussNewton hinge = hinge_bending_gauss_newton(
         x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), model.bending.rest[e], model.bending.stiffness);
@@ -184,10 +186,8 @@ Vec3 NewtonTail::vertex_gradient(const ClothModel& model, const Vec3& gravity, d
   }
   for (int k = hinge_starts_[i]; k < hinge_starts_[i + 1]; ++k) {
     const int e = hinge_list_[k];
-    const auto v = model.bending.hinges.col(e);
     Vector12d element;
-    hinge_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), model.bending.rest[e],
-                         model.bending.stiffness, &element, nullptr);
+    bending_element_energy(model.bending, e, x, &element);
     g += element.segment<3>(3 * corner_of<4>(model.bending.hinges, e, i));
   }
   return g;

@@ -13,8 +13,9 @@
 // exact. The caller evaluates the whole gradient afterwards: the residual a step reports is
 // always the whole cloth's.
 //
-// Terms: the membrane, dihedral hinges (Gauss-Newton Hessian), gravity, the inertia and Rayleigh
-// mass damping. supports() says whether a model holds only those.
+// Terms: the membrane, hinges (dihedral: Gauss-Newton Hessian; quadratic: its constant exact
+// one), gravity, the inertia and Rayleigh mass damping. supports() says whether a model holds
+// only those.
 #include <vector>
 
 #include "physics/cloth.hpp"

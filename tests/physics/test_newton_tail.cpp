@@ -19,10 +19,10 @@
 namespace weft {
 namespace {
 
-// A 16x16, 0.3 m membrane cloth with dihedral hinges and mass damping, pinned at two corners,
-// after `steps` steps of h = 1/240 s swinging down.
-Cloth swinging_cloth(int steps) {
-  const nlohmann::json scene = nlohmann::json::parse(R"({
+// A 16x16, 0.3 m membrane cloth with hinges of the given bending model and mass damping, pinned
+// at two corners, after `steps` steps of h = 1/240 s swinging down.
+Cloth swinging_cloth(int steps, const std::string& bending_model = "dihedral") {
+  nlohmann::json scene = nlohmann::json::parse(R"({
     "gravity": [0, -9.81, 0],
     "solver": {"integrator": "implicit_euler", "time_step": 0.004166666666666667,
                "newton": {"tolerance": 1e-4, "max_iterations": 60}},
@@ -37,6 +37,7 @@ Cloth swinging_cloth(int steps) {
       "thickness": 1e-3,
       "pins": {"corners": ["top_left", "top_right"]}}],
     "collision": {"enabled": false}})");
+  scene["cloths"][0]["bending"]["model"] = bending_model;
   World world = build_world(parse_scene(scene, "<inline>"));
   for (int k = 0; k < steps; ++k) world.step();
   return world.cloths()[0];
@@ -57,8 +58,10 @@ double full_potential(const ClothModel& model, const Vec3& gravity, double h, co
   return value;
 }
 
-TEST(NewtonTail, FinishesALocalResidualMovingOnlyItsRegionAndKeepsTheGradientExact) {
-  Cloth cloth = swinging_cloth(12);
+class NewtonTailForBending : public testing::TestWithParam<std::string> {};
+
+TEST_P(NewtonTailForBending, FinishesALocalResidualMovingOnlyItsRegionAndKeepsTheGradientExact) {
+  Cloth cloth = swinging_cloth(12, GetParam());
   const ClothModel& model = cloth.model;
   ASSERT_TRUE(NewtonTail::supports(model));
   const Vec3 gravity(0.0, -9.81, 0.0);
@@ -117,6 +120,8 @@ TEST(NewtonTail, FinishesALocalResidualMovingOnlyItsRegionAndKeepsTheGradientExa
   EXPECT_GT(moved, 0);
   EXPECT_LT(moved, x.cols() / 2) << "the whole cloth moved, not a region";
 }
+
+INSTANTIATE_TEST_SUITE_P(NewtonTail, NewtonTailForBending, testing::Values("dihedral", "quadratic"));
 
 TEST(NewtonTail, TheResidualAStepReportsIsTheWholeCloths) {
   // Steps of the swinging cloth with the tail on: whenever it ran, the residual reported equals
