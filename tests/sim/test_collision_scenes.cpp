@@ -127,13 +127,12 @@ TEST(CollisionScenes, TwistStaysClean) {
 
 // Five full turns (1800 degrees) in 2.5 s instead of 5 s: the rope winds tight and its zones grow
 // until one holds vertices of both pinned edges, the fixed and the turning one. No rigid motion
-// follows both, so there the strain limit can give way (the zones stop what they hold and the
-// turning pins pull their edges past it; docs/collision.md step 5) while nothing may pass
-// through. Whether it comes to that depends on the trajectory's rounding (it did after a change
-// of the Hessian product's summation order, 2026-11-26), so the test asserts the contract that
-// holds on every trajectory: no intersecting pair and no crossed vertex in any frame, and an edge
-// over the limit only at the end of a frame in which some step reported its collision response
-// unclean.
+// follows both, so there the strain limit can give way (the turning pins pull their edges past it;
+// where nothing else can get out of their way the pins are held; docs/collision.md step 5) while
+// nothing may pass through. Whether it comes to that depends on the trajectory's rounding
+// (bench/twist_sweep.sh), so the test asserts the contract that holds on every trajectory: no
+// intersecting pair and no crossed vertex in any frame, and an edge over the limit only at the
+// end of a frame in which some step reported its collision response unclean.
 TEST(CollisionScenes, FiveTurnTwistStaysCleanAndReportsEveryEdgeOverTheStrainLimit) {
   const SceneDesc scene =
       load("twist_five_turns", {"cloths.0.grid.resolution=[16,8]", "cloths.0.moving_pins.0.angular_velocity_degrees=720",
