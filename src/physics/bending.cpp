@@ -49,73 +49,44 @@ BendingTerm make_bending_term(const MeshTopology& topology, const Positions& res
   return term;
 }
 
-double bending_element_energy(const BendingTerm& term, int h, const Positions& x, Vector12d* gradient) {
+double bending_element_energy(const BendingTerm& term, int h, const Positions& x, Vector12d* gradient,
+                              SparseHessian* hessian, int stencil, bool project) {
   const Eigen::Vector4i v = term.hinges.col(h);
   if (term.model == BendingModel::quadratic) {
-    return quadratic_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), term.quadratic[h],
-                                    term.stiffness, gradient);
-  }
-  return hinge_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), term.rest[h], term.stiffness,
-                              gradient, nullptr);
-}
-
-namespace {
-
-// Adds a hinge's 12-entry gradient to its four vertices' columns.
-void scatter_gradient(const Eigen::Vector4i& hinge, const Vector12d& element_gradient, Positions& gradient) {
-  for (int k = 0; k < 4; ++k) gradient.col(hinge[k]) += element_gradient.segment<3>(3 * k);
-}
-
-double evaluate_quadratic(const BendingTerm& term, const Positions& x, Positions* gradient, SparseHessian* hessian,
-                          int stencil) {
-  return term.coloring.sum_over_elements(static_cast<int>(term.hinges.cols()), [&](int h) {
-    const Eigen::Vector4i v = term.hinges.col(h);
     const QuadraticHinge& hinge = term.quadratic[h];
-    Vector12d element_gradient;
-    const double energy = quadratic_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), hinge,
-                                                   term.stiffness, gradient ? &element_gradient : nullptr);
-    if (gradient) {
-      scatter_gradient(v, element_gradient, *gradient);
-    }
+    const double energy =
+        quadratic_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), hinge, term.stiffness, gradient);
     if (hessian) {
       hessian->add_element_isotropic<4>(stencil, h, quadratic_bending_hessian_coefficients(hinge, term.stiffness));
     }
     return energy;
-  });
+  }
+  if (hessian && project) {  // Gauss-Newton: the rank-one Hessian goes into the blocks unformed
+    const HingeGaussNewton hinge = hinge_bending_gauss_newton(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]),
+                                                              term.rest[h], term.stiffness);
+    if (gradient) *gradient = hinge.gradient;
+    hessian->add_element_outer<4>(stencil, h, hinge.curvature, hinge.angle_gradient);
+    return hinge.energy;
+  }
+  Matrix12d element_hessian;
+  const double energy = hinge_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), term.rest[h],
+                                             term.stiffness, gradient, hessian ? &element_hessian : nullptr);
+  if (hessian) hessian->add_element<4>(stencil, h, element_hessian);
+  return energy;
 }
-
-double evaluate_dihedral(const BendingTerm& term, const Positions& x, Positions* gradient, SparseHessian* hessian,
-                         int stencil, bool project) {
-  return term.coloring.sum_over_elements(static_cast<int>(term.hinges.cols()), [&](int h) {
-    const Eigen::Vector4i v = term.hinges.col(h);
-    if (hessian && project) {  // Gauss-Newton: the rank-one Hessian goes into the blocks unformed
-      const HingeGaussNewton hinge = hinge_bending_gauss_newton(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]),
-                                                                term.rest[h], term.stiffness);
-      if (gradient) {
-        scatter_gradient(v, hinge.gradient, *gradient);
-      }
-      hessian->add_element_outer<4>(stencil, h, hinge.curvature, hinge.angle_gradient);
-      return hinge.energy;
-    }
-    Vector12d element_gradient;
-    Matrix12d element_hessian;
-    const double energy =
-        hinge_bending_energy(x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), term.rest[h], term.stiffness,
-                             gradient ? &element_gradient : nullptr, hessian ? &element_hessian : nullptr);
-    if (gradient) {
-      scatter_gradient(v, element_gradient, *gradient);
-    }
-    if (hessian) hessian->add_element<4>(stencil, h, element_hessian);
-    return energy;
-  });
-}
-
-}  // namespace
 
 double evaluate_bending(const BendingTerm& term, const Positions& x, Positions* gradient, SparseHessian* hessian,
                         int stencil, bool project) {
-  if (term.model == BendingModel::quadratic) return evaluate_quadratic(term, x, gradient, hessian, stencil);
-  return evaluate_dihedral(term, x, gradient, hessian, stencil, project);
+  return term.coloring.sum_over_elements(static_cast<int>(term.hinges.cols()), [&](int h) {
+    Vector12d element_gradient;
+    const double energy =
+        bending_element_energy(term, h, x, gradient ? &element_gradient : nullptr, hessian, stencil, project);
+    if (gradient) {
+      // The hinge's 12 entries onto its four vertices' columns.
+      for (int k = 0; k < 4; ++k) gradient->col(term.hinges(k, h)) += element_gradient.segment<3>(3 * k);
+    }
+    return energy;
+  });
 }
 
 const char* to_string(BendingModel model) { return model == BendingModel::quadratic ? "quadratic" : "dihedral"; }

@@ -43,8 +43,10 @@ struct BendingTerm {
 BendingTerm make_bending_term(const MeshTopology& topology, const Positions& rest_positions, double stiffness,
                               BendingModel model);
 
-// Bending energy of hinge h alone; fills its gradient (x0..x3 stacked) when not null.
-double bending_element_energy(const BendingTerm& term, int h, const Positions& x, Vector12d* gradient);
+// Bending energy of hinge h alone; fills its gradient (x0..x3 stacked) when not null, and adds its
+// Hessian to `hessian` (stencil `stencil`, projected as evaluate_bending says) when not null.
+double bending_element_energy(const BendingTerm& term, int h, const Positions& x, Vector12d* gradient,
+                              SparseHessian* hessian = nullptr, int stencil = 0, bool project = false);
 
 // Bending energy of all hinges; adds the gradient and the Hessian (stencil `stencil` over
 // term.hinges) to the outputs that are not null. The quadratic model's Hessian is exact and PSD

@@ -6,7 +6,6 @@
 
 #include "core/topology.hpp"
 #include "physics/bending.hpp"
-#include "physics/hinge_bending.hpp"
 
 namespace weft {
 
@@ -152,16 +151,7 @@ void NewtonTail::assemble_region(const ClothModel& model, double h, const Positi
     hessian.add_element<3>(stencils.triangles, t, element);
   }
   for (const int e : region_hinges_) {
-    if (model.bending.model == BendingModel::quadratic) {
-      hessian.add_element_isotropic<4>(
-          stencils.hinges, e,
-          quadratic_bending_hessian_coefficients(model.bending.quadratic[e], model.bending.stiffness));
-      continue;
-    }
-    const auto v = model.bending.hinges.col(e);
-    const HingeGaussNewton hinge = hinge_bending_gauss_newton(
-        x.col(v[0]), x.col(v[1]), x.col(v[2]), x.col(v[3]), model.bending.rest[e], model.bending.stiffness);
-    hessian.add_element_outer<4>(stencils.hinges, e, hinge.curvature, hinge.angle_gradient);
+    bending_element_energy(model.bending, e, x, nullptr, &hessian, stencils.hinges, /*project=*/true);
   }
   const double damping = model.mass_damping > 0.0 ? model.mass_damping / h : 0.0;
   for (size_t k = 0; k < region_.size(); ++k) {
@@ -245,9 +235,9 @@ int NewtonTail::iterate(const ClothModel& model, const Vec3& gravity, double h, 
                         const HessianStencils& stencils, Positions& x, Positions& gradient) {
   int free_vertices = 0;
   for (int i = 0; i < num_vertices_; ++i) free_vertices += model.inverse_mass[i] > 0.0;
+  const double largest = settings.largest_share * free_vertices;
   int iterations = 0;
   while (iterations < settings.max_iterations) {
-    const double largest = settings.largest_share * free_vertices;
     const int above = collect_region(model, h, settings.tolerance, largest, gradient);
     if (above == 0 || above > largest) break;
     assemble_region(model, h, x, hessian, stencils);

@@ -109,11 +109,14 @@ TEST(CollisionScenes, TumbleDryerStaysClean) {
 
 // A twist scene at 16x8, turned faster than shipped, Newton capped at 10 iterations (the twisted
 // membrane makes it run to its limit, and the collision phase does not depend on it).
+SceneDesc twist_scene(const std::string& name, int degrees_per_second) {
+  return load(name, {"cloths.0.grid.resolution=[16,8]",
+                     "cloths.0.moving_pins.0.angular_velocity_degrees=" + std::to_string(degrees_per_second),
+                     "solver.newton.max_iterations=10"});
+}
+
 SceneRun run_twist(const std::string& name, int degrees_per_second, int frames) {
-  const SceneDesc scene =
-      load(name, {"cloths.0.grid.resolution=[16,8]",
-                  "cloths.0.moving_pins.0.angular_velocity_degrees=" + std::to_string(degrees_per_second),
-                  "solver.newton.max_iterations=10"});
+  const SceneDesc scene = twist_scene(name, degrees_per_second);
   World world = build_world(scene);
   return run_checked(world, scene, frames);
 }
@@ -134,9 +137,7 @@ TEST(CollisionScenes, TwistStaysClean) {
 // intersecting pair and no crossed vertex in any frame, and an edge over the limit only at the
 // end of a frame in which some step reported its collision response unclean.
 TEST(CollisionScenes, FiveTurnTwistStaysCleanAndReportsEveryEdgeOverTheStrainLimit) {
-  const SceneDesc scene =
-      load("twist_five_turns", {"cloths.0.grid.resolution=[16,8]", "cloths.0.moving_pins.0.angular_velocity_degrees=720",
-                                "solver.newton.max_iterations=10"});
+  const SceneDesc scene = twist_scene("twist_five_turns", 720);
   World world = build_world(scene);
   const testing::SceneInvariants invariants(world);
   const FrameSchedule schedule = frame_schedule(scene.fps, scene.time_step);
