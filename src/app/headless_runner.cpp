@@ -37,7 +37,7 @@ constexpr const char* stats_header =
     "collisions_ms,rest_update_ms,record_ms,wall_ms,steps,broad_phase_ms,narrow_phase_ms,response_ms,step_ms,"
     "vertex_face_candidates,edge_edge_candidates,proximity_contacts,ccd_impulses,impact_zone_vertices,"
     "collisions_clean,strain_limited_edges,newton_residual,unconverged_steps,external_work,dissipated_damping,"
-    "dissipated_integrator,dissipated_contact,dissipated_plastic,budget_error,threads";
+    "dissipated_integrator,dissipated_contact,dissipated_plastic,budget_error,threads,held_pins";
 
 volatile std::sig_atomic_t stop_requested = 0;
 extern "C" void request_stop(int) { stop_requested = 1; }
@@ -75,7 +75,7 @@ std::string stats_line(int frame, double time, const Energies& e, double initial
       << s.impact_zone_vertices << ',' << (s.collisions_clean ? 1 : 0) << ',' << s.strain_limited_edges << ','
       << s.residual << ',' << s.unconverged_steps << ',' << flows.external_work << ',' << flows.damping << ','
       << flows.integrator << ',' << flows.contact << ',' << flows.plastic << ',' << budget_error << ','
-      << (s.steps > 0 ? static_cast<double>(s.thread_steps) / s.steps : 0.0);
+      << (s.steps > 0 ? static_cast<double>(s.thread_steps) / s.steps : 0.0) << ',' << s.held_pins;
   return out.str();
 }
 
@@ -99,7 +99,7 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
     if (values.size() == columns.size()) table.push_back(values);
   }
   double wall = 0.0, wall_max = 0.0, newton = 0.0, newton_max = 0.0, contacts_max = 0.0;
-  double unconverged = 0.0, residual_max = 0.0, budget_error_max = 0.0;
+  double unconverged = 0.0, residual_max = 0.0, budget_error_max = 0.0, held_pins = 0.0;
   for (size_t r = 1; r < table.size(); ++r) {  // frame 0 is the initial state, not simulated
     wall += table[r][column("wall_ms")];
     wall_max = std::max(wall_max, table[r][column("wall_ms")]);
@@ -107,6 +107,7 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
     newton_max = std::max(newton_max, table[r][column("newton_iterations")]);
     contacts_max = std::max(contacts_max, table[r][column("contacts")]);
     unconverged += table[r][column("unconverged_steps")];
+    held_pins += table[r][column("held_pins")];
     residual_max = std::max(residual_max, table[r][column("newton_residual")]);
     budget_error_max = std::max(budget_error_max, std::abs(table[r][column("budget_error")]));
   }
@@ -121,6 +122,7 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
       {"newton_iterations", {{"total", newton}, {"max_per_frame", newton_max}}},
       {"unconverged_steps", unconverged},
       {"newton_residual_max", residual_max},
+      {"held_pins", held_pins},
       {"contacts_max", contacts_max}};
   if (!table.empty()) {
     const std::vector<double>& first = table.front();
@@ -451,6 +453,14 @@ int Run::record_and_step() {
                  "tolerance %.3g m/s); stats.csv has them per frame. Raise solver.newton.max_iterations or "
                  "use solver.newton.linear_solver \"cholesky\".\n",
                  unconverged_steps, worst_residual, scene_.implicit.newton_tolerance);
+  }
+  const int held_pins = totals["held_pins"].get<int>();
+  if (held_pins > 0) {
+    std::fprintf(stderr,
+                 "weft: %d times a cloth pin was held at its start of step, lagging its script, because nothing "
+                 "else kept cloth from passing through cloth (those steps are reported unclean); stats.csv's "
+                 "held_pins has them per frame. Slow the pins' script down or lower solver.time_step.\n",
+                 held_pins);
   }
   if (stop_requested) {
     // A checkpoint of the last whole frame, so a preempted cluster job resumes where it stopped.

@@ -200,26 +200,31 @@ void CollisionPhase::query_candidates(CollisionCandidates& candidates) {
     }
   }
   sort_candidates(candidates);
-  drop_immovable_pairs(candidates);
+  drop_immovable_pairs(candidates, &immovable_candidates_);
 }
 
-void CollisionPhase::drop_immovable_pairs(CollisionCandidates& candidates) const {
-  const auto immovable = [&](int v) { return inverse_mass_[v] == 0.0; };
-  auto& vertex_faces = candidates.vertex_face;
-  vertex_faces.erase(std::remove_if(vertex_faces.begin(), vertex_faces.end(),
-                                    [&](const VertexFacePair& pair) {
-                                      const auto corners = triangles_.col(pair.triangle);
-                                      return immovable(pair.vertex) && immovable(corners[0]) &&
-                                             immovable(corners[1]) && immovable(corners[2]);
-                                    }),
-                     vertex_faces.end());
-  auto& edge_edges = candidates.edge_edge;
-  edge_edges.erase(std::remove_if(edge_edges.begin(), edge_edges.end(),
-                                  [&](const EdgeEdgePair& pair) {
-                                    return immovable(edges_(0, pair.edge_a)) && immovable(edges_(1, pair.edge_a)) &&
-                                           immovable(edges_(0, pair.edge_b)) && immovable(edges_(1, pair.edge_b));
-                                  }),
-                   edge_edges.end());
+void CollisionPhase::drop_immovable_pairs(CollisionCandidates& candidates, CollisionCandidates* immovable) const {
+  const auto infinite = [&](int v) { return inverse_mass_[v] == 0.0; };
+  const auto vertex_face_immovable = [&](const VertexFacePair& pair) {
+    const auto corners = triangles_.col(pair.triangle);
+    return infinite(pair.vertex) && infinite(corners[0]) && infinite(corners[1]) && infinite(corners[2]);
+  };
+  const auto edge_edge_immovable = [&](const EdgeEdgePair& pair) {
+    return infinite(edges_(0, pair.edge_a)) && infinite(edges_(1, pair.edge_a)) && infinite(edges_(0, pair.edge_b)) &&
+           infinite(edges_(1, pair.edge_b));
+  };
+  // Both parts keep the candidates' sorted order (and no scratch is allocated once grown).
+  const auto split = [](auto& pairs, auto* kept_aside, const auto& is_immovable) {
+    if (kept_aside) {
+      kept_aside->clear();
+      for (const auto& pair : pairs) {
+        if (is_immovable(pair)) kept_aside->push_back(pair);
+      }
+    }
+    pairs.erase(std::remove_if(pairs.begin(), pairs.end(), is_immovable), pairs.end());
+  };
+  split(candidates.vertex_face, immovable ? &immovable->vertex_face : nullptr, vertex_face_immovable);
+  split(candidates.edge_edge, immovable ? &immovable->edge_edge : nullptr, edge_edge_immovable);
 }
 
 // Phase: broad phase.
@@ -481,6 +486,7 @@ void CollisionPhase::apply_impact_zones() {
       resolve_impact_zones(step, candidates_.vertex_face, candidates_.edge_edge, ccd_settings(), zone_workspace_,
                            settings.strain_limit > 0.0 ? &strain : nullptr);
   stats_.impact_zone_vertices += zones.zone_vertices;
+  stats_.held_pins += zones.held;
   // Pins held at their start did not follow their script: the step is not reported clean.
   stats_.clean = zones.clean && zones.held == 0;
   stats_.response_ms += milliseconds_since(start);
@@ -586,7 +592,18 @@ void CollisionPhase::query_escaped_candidates(CollisionCandidates& candidates) {
     }
   }
   sort_candidates(candidates);
-  drop_immovable_pairs(candidates);
+  drop_immovable_pairs(candidates, nullptr);  // an escaped vertex has finite mass: none to keep
+}
+
+void CollisionPhase::check_immovable_pairs() {
+  if (immovable_candidates_.vertex_face.empty() && immovable_candidates_.edge_edge.empty()) return;
+  const auto start = Clock::now();
+  detect_collisions(make_step(), immovable_candidates_.vertex_face, immovable_candidates_.edge_edge, ccd_settings(),
+                    collisions_);
+  stats_.narrow_ms += milliseconds_since(start);
+  if (collisions_.empty()) return;
+  stats_.immovable_collisions += static_cast<int>(collisions_.found.size());
+  stats_.clean = false;
 }
 
 void CollisionPhase::scatter_motion(std::vector<Cloth>& cloths) const {

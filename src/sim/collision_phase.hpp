@@ -15,6 +15,8 @@
 //   apply_impact_zones      rigid impact zones, the fail-safe
 //   verify_motion           the broad phase again on the corrected motion; collisions it finds
 //                           (pairs that left their swept boxes) go round again
+//   check_immovable_pairs   pairs of infinite-mass vertices only (left out of the response,
+//                           which cannot move them) tested over the final motion
 //   scatter_motion          the corrected positions and velocities back into the cloths
 // Colliders are triangle meshes of infinite mass; kinematic ones move from their pose at t to
 // their pose at t + h over the step.
@@ -78,6 +80,8 @@ struct CollisionPhaseStats {
   int proximity_contacts = 0;
   int ccd_impulses = 0;
   int impact_zone_vertices = 0;
+  int held_pins = 0;             // cloth pins the zones' last resort held at their start
+  int immovable_collisions = 0;  // collisions between infinite-mass vertices only (check_immovable_pairs)
   int strain_limited_edges = 0;  // edge corrections by strain limiting, summed over its sweeps
   int bvh_rebuilds = 0;
   int rounds = 0;            // CCD + zone rounds run
@@ -122,6 +126,10 @@ class CollisionPhase {
   void apply_impact_zones();
   // Returns true when the corrected motion still collides (another round is due).
   bool verify_motion();
+  // A kinematic collider driven through pinned cloth, or pinned cloth through pinned cloth, has
+  // nothing of finite mass to move: such pairs are left out of every response, and this tests
+  // them over the final motion so that the step is not reported clean when they collide.
+  void check_immovable_pairs();
   void scatter_motion(std::vector<Cloth>& cloths) const;
 
   // After begin_step, for implicit Euler's contact penalty: the pairs the last step's proximity
@@ -167,8 +175,9 @@ class CollisionPhase {
   PrimitiveMesh primitive_mesh(const MeshSlot& slot) const;
   void query_candidates(CollisionCandidates& candidates);
   void query_escaped_candidates(CollisionCandidates& candidates);
-  // Drops pairs whose four vertices all have infinite mass (nothing can move them).
-  void drop_immovable_pairs(CollisionCandidates& candidates) const;
+  // Moves pairs whose four vertices all have infinite mass (nothing can move them) out of
+  // `candidates`, into `immovable` when given (check_immovable_pairs tests them).
+  void drop_immovable_pairs(CollisionCandidates& candidates, CollisionCandidates* immovable) const;
   int material_group(int mesh_a, int mesh_b) const;
   int vertex_face_group(const VertexFacePair& pair) const;
   int edge_edge_group(const EdgeEdgePair& pair) const;
@@ -207,6 +216,7 @@ class CollisionPhase {
   std::vector<TrianglePair> pairs_;
   CollisionCandidates candidates_;
   CollisionCandidates verify_candidates_;
+  CollisionCandidates immovable_candidates_;  // the pairs drop_immovable_pairs took out of query_candidates's
   std::vector<char> culled_before_;  // verify_motion: the culling the candidates were found with
   std::vector<int> escaped_vertices_;   // verify_motion: vertices whose corrected motion left their box
   std::vector<char> escaped_flags_;     // per vertex

@@ -242,6 +242,7 @@ void World::resolve_collisions(double h, StepStats& stats) {
     phase.apply_impact_zones();
     if (!phase.verify_motion()) break;
   }
+  phase.check_immovable_pairs();
   phase.scatter_motion(cloths_);
   if (settings.energy_budget) {
     double energy_after = 0.0;
@@ -258,6 +259,7 @@ void World::resolve_collisions(double h, StepStats& stats) {
   stats.proximity_contacts = totals.proximity_contacts;
   stats.ccd_impulses = totals.ccd_impulses;
   stats.impact_zone_vertices = totals.impact_zone_vertices;
+  stats.held_pins = totals.held_pins;
   stats.strain_limited_edges = totals.strain_limited_edges;
   stats.contacts = totals.proximity_contacts + totals.ccd_impulses;
   stats.collisions_clean = stats.collisions_clean && totals.clean;
@@ -293,6 +295,7 @@ StepStats& StepStats::operator+=(const StepStats& step) {
   proximity_contacts += step.proximity_contacts;
   ccd_impulses += step.ccd_impulses;
   impact_zone_vertices += step.impact_zone_vertices;
+  held_pins += step.held_pins;
   strain_limited_edges += step.strain_limited_edges;
   collisions_clean = collisions_clean && step.collisions_clean;
   yielded_triangles += step.yielded_triangles;

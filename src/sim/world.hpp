@@ -63,6 +63,9 @@ struct StepStats {
   int proximity_contacts = 0;    // pairs repelled within the thickness
   int ccd_impulses = 0;          // continuous collisions acted on
   int impact_zone_vertices = 0;  // vertices moved rigidly by impact zones
+  int held_pins = 0;             // cloth pins held at their start, lagging their script, because
+                                 // nothing else kept cloth from passing through cloth
+                                 // (collision/impact_zones.hpp); such a step is not clean
   int strain_limited_edges = 0;  // edge corrections by strain limiting (collision.strain_limit)
   bool collisions_clean = true;  // every sub-step ended without a detected collision
   int newton_iterations = 0;     // implicit Euler, summed over cloths and sub-steps

@@ -30,6 +30,10 @@ void draw_status_line(const SimulationSession& session, const ViewerState& state
       ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.2f, 1.0f), "| Newton unconverged (residual %.2g m/s)",
                          stats.residual);
     }
+    if (stats.held_pins > 0) {  // the collision response's last resort stopped pins on their script
+      ImGui::SameLine();
+      ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.2f, 1.0f), "| %d pins held back", stats.held_pins);
+    }
     if (state.hover.valid) {
       const Cloth& cloth = world.cloths()[static_cast<size_t>(state.hover.cloth)];
       const int v = state.hover.vertex;

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support/files.hpp"
 #include "support/run_program.hpp"
 #include "support/temp_dir.hpp"
 
@@ -160,6 +161,56 @@ TEST(HeadlessRunner, TheThreadsColumnShowsTheThreadsTheStepsRanOn) {
     EXPECT_EQ(rows[1].at("threads"), threads);
     EXPECT_EQ(rows[2].at("threads"), threads);
   }
+}
+
+TEST(HeadlessRunner, PinsHeldBackFromTheirScriptAreCountedAndWarnedOf) {
+  // A small sheet with every vertex on a script is driven down at 2 m/s onto a sheet pinned
+  // everywhere but at its centre vertex. Once that vertex is stopped, nothing of finite mass is
+  // left to move, so the collision response's last resort holds the moving pins at their start
+  // (collision/impact_zones.hpp): stats.csv's held_pins counts them in the frames where that
+  // happened, such frames are not clean, summary.json has the total and the run warns. A plain
+  // drape holds nothing.
+  TempDir dir("weft_headless_held_pins");
+  const std::string scene = dir.file("punch.json");
+  {
+    std::string pins = "[0";
+    for (int v = 1; v < 81; ++v) pins += v == 40 ? "" : ", " + std::to_string(v);
+    std::ofstream out(scene);
+    out << R"({"gravity": [0, 0, 0], "fps": 30, "frames": 3,
+      "solver": {"integrator": "implicit_euler", "time_step": 0.004166666666666667},
+      "cloths": [
+        {"name": "sheet", "grid": {"size": [0.4, 0.4], "resolution": [9, 9]},
+         "transform": {"rotation_degrees": [-90, 0, 0]}, "membrane": {}, "pins": {"vertices": )"
+        << pins << R"(]}},
+        {"name": "punch", "grid": {"size": [0.1, 0.1], "resolution": [3, 3]},
+         "transform": {"translation": [0.013, 0.1, 0.017], "rotation_degrees": [-90, 0, 0]},
+         "membrane": {},
+         "moving_pins": [{"edges": ["bottom", "top", "left", "right"], "vertices": [4], "velocity": [0, -2, 0]}]}]})";
+  }
+  const fs::path out = dir.path() / "punch";
+  const testing::ProgramResult run = run_program({weft_program, "--headless", scene, "--quiet", "--out", out.string()},
+                                    dir.file("punch.txt"));
+  ASSERT_EQ(run.exit_code, 0) << run.error_text;
+  const auto rows = read_stats(out / "stats.csv");
+  ASSERT_EQ(rows.size(), 4u);
+  int held = 0;
+  for (const auto& row : rows) {
+    ASSERT_EQ(row.count("held_pins"), 1u);
+    held += static_cast<int>(row.at("held_pins"));
+    if (row.at("held_pins") > 0.0) EXPECT_EQ(row.at("collisions_clean"), 0.0) << "frame " << row.at("frame");
+  }
+  EXPECT_GT(held, 0);
+  EXPECT_EQ(testing::read_json(out / "summary.json")["held_pins"].get<int>(), held);
+  EXPECT_NE(run.error_text.find("held_pins"), std::string::npos) << run.error_text;
+
+  const fs::path drape = dir.path() / "drape";
+  const testing::ProgramResult plain = run_program({weft_program, "--headless", source_dir + "/scenes/drape_sphere.json",
+                                       "--quiet", "--frames", "2", "--set", "cloths.0.grid.resolution=[8,8]",
+                                       "--out", drape.string()},
+                                      dir.file("drape.txt"));
+  ASSERT_EQ(plain.exit_code, 0) << plain.error_text;
+  EXPECT_EQ(testing::read_json(drape / "summary.json")["held_pins"].get<int>(), 0);
+  EXPECT_EQ(plain.error_text.find("held_pins"), std::string::npos) << plain.error_text;
 }
 
 TEST(HeadlessRunner, BadInputExitsWithCodeTwoAndWritesNothing) {

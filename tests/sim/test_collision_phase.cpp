@@ -164,6 +164,35 @@ TEST(CollisionPhase, AKinematicColliderLiftsTheCloth) {
   EXPECT_LT(world.cloths()[0].state.x.row(1).maxCoeff(), top + 0.02) << "carried, not thrown";
 }
 
+TEST(CollisionPhase, AColliderDrivenThroughPinnedClothIsNotReportedClean) {
+  // Every vertex of the cloth is pinned, so no response can move anything in the collider's way:
+  // the pairs are left out of the response, but the step in which the box's top crosses the
+  // cloth, and each step its sides cut through it, must not claim to be clean.
+  std::string pins = "[0";
+  for (int v = 1; v < 16; ++v) pins += ", " + std::to_string(v);
+  pins += "]";
+  World world = world_of(R"({
+    "gravity": [0, 0, 0],
+    "solver": {"integrator": "symplectic_euler", "time_step": 0.005},
+    "cloths": [{"grid": {"size": [0.4, 0.4], "resolution": [4, 4]},
+                "transform": {"rotation_degrees": [-90, 0, 0]}, "pins": {"vertices": )" +
+                         pins + R"(}}],
+    "colliders": [{"type": "box", "center": [0.01, -0.08, 0.02], "half_extents": [0.1, 0.05, 0.1],
+                   "motion": {"velocity": [0, 1, 0]}}]
+  })");
+  const Positions start = world.cloths()[0].state.x;
+  std::vector<int> unclean_steps;
+  for (int k = 0; k < 30; ++k) {  // the top reaches the cloth in step 6, the bottom leaves it in step 26
+    world.step();
+    if (!world.last_step_stats().collisions_clean) unclean_steps.push_back(k);
+  }
+  EXPECT_TRUE(world.cloths()[0].state.x == start) << "pins stay where they are";
+  ASSERT_FALSE(unclean_steps.empty());
+  EXPECT_GE(unclean_steps.front(), 5) << "clean before the box arrives";
+  EXPECT_LE(unclean_steps.back(), 27) << "clean after it has passed";
+  EXPECT_GE(unclean_steps.size(), 10u) << "the box's sides cut the cloth while it passes";
+}
+
 // One cloth made of two parallel sheets in one mesh, driven into each other: with self-collision
 // they stop, without it they pass through.
 TEST(CollisionPhase, SelfCollisionCanBeTurnedOff) {
