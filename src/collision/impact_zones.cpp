@@ -206,6 +206,8 @@ ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<Ver
     result.clean = collisions.empty() && stretched.empty();
   }
 
+  result.collision_free = collisions.empty();  // every path above ends on a detection of the final motion
+
   // Zone statistics.
   for (size_t k = 0; k < members.size(); ++k) {
     if (k == 0 || find_root(parent, members[k]) != find_root(parent, members[k - 1])) ++result.zones;

@@ -33,7 +33,8 @@ struct ImpactZoneResult {
   int passes = 0;         // detection passes run
   int zones = 0;          // zones of two or more vertices at the end
   int zone_vertices = 0;  // vertices in those zones
-  bool clean = false;     // the final motion has no collision
+  bool clean = false;     // the final motion has no collision and no edge over the strain limit
+  bool collision_free = false;  // the final motion has no collision (edges may be over the limit)
   bool stopped = false;   // the pass limit was reached and free vertices were stopped (x_end = x_start)
   int held = 0;           // holdable infinite-mass vertices (pins) held at their start, as a last resort
 };
@@ -47,7 +48,7 @@ void apply_rigid_motion(CollisionStep& step, const int* vertices, int count);
 // infinite-mass ones (step.holdable: pins), stop for the step: starting from a state without
 // intersection this ends so unless vertices that cannot be held (colliders) collide.
 // If only edges over `strain`'s limit (when given) remain, the collision-free motion is kept and
-// the result is not clean: a zone holding infinite-mass vertices that move non-rigidly with
+// the result is collision-free but not clean: a zone holding infinite-mass vertices that move non-rigidly with
 // respect to each other (a fixed and a turning pinned edge) has no rigid motion that follows
 // them all, and its edges to them can stay over the limit.
 ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,

@@ -4,13 +4,6 @@
 
 namespace weft {
 
-namespace {
-
-// An edge within this fraction of its limit counts as limited (sweeps stop there).
-constexpr double limit_slack = 1e-3;
-
-}  // namespace
-
 StrainLimitResult limit_edge_strain(CollisionStep& step, const std::vector<double>& rest_length,
                                     double max_strain, int max_sweeps) {
   StrainLimitResult result;
@@ -22,7 +15,7 @@ StrainLimitResult limit_edge_strain(CollisionStep& step, const std::vector<doubl
     result.largest_strain_before = std::max(result.largest_strain_before, length / rest_length[e] - 1.0);
   }
   // The same test as a sweep's count below: some edge is over its limit by more than the slack.
-  if (!(1.0 + result.largest_strain_before > (1.0 + max_strain) * (1.0 + limit_slack))) return result;
+  if (!(1.0 + result.largest_strain_before > (1.0 + max_strain) * (1.0 + strain_limit_slack))) return result;
 
   for (; result.sweeps < max_sweeps;) {
     ++result.sweeps;
@@ -40,7 +33,7 @@ StrainLimitResult limit_edge_strain(CollisionStep& step, const std::vector<doubl
       const double limit = (1.0 + max_strain) * rest;
       if (!(length > limit)) continue;
       // Shorten to the limit exactly; count it when it was past the slack.
-      if (length > limit * (1.0 + limit_slack)) ++corrected;
+      if (length > limit * (1.0 + strain_limit_slack)) ++corrected;
       const Vec3 shift = (length - limit) / (length * (w_i + w_j)) * d;
       step.x_end.col(i) += w_i * shift;
       step.velocity.col(i) += (w_i / h) * shift;
@@ -58,7 +51,7 @@ bool edge_over_limit(const CollisionStep& step, const StrainBound& bound, int e)
   const int i = step.edges(0, e), j = step.edges(1, e);
   if (!(rest > 0.0) || !(step.inverse_mass[i] + step.inverse_mass[j] > 0.0)) return false;
   const double length = (step.x_end.col(j) - step.x_end.col(i)).norm();
-  if (!(length > (1.0 + bound.max_strain) * (1.0 + limit_slack) * rest)) return false;
+  if (!(length > (1.0 + bound.max_strain) * (1.0 + strain_limit_slack) * rest)) return false;
   return length > (step.x_start.col(j) - step.x_start.col(i)).norm() * (1.0 + 1e-12);
 }
 

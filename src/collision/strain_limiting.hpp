@@ -13,6 +13,9 @@
 
 namespace weft {
 
+// An edge within this fraction of its limit counts as limited (the sweeps stop there).
+constexpr double strain_limit_slack = 1e-3;
+
 struct StrainLimitResult {
   int sweeps = 0;                      // sweeps run
   int corrected_edges = 0;             // edge corrections, summed over the sweeps

@@ -17,6 +17,7 @@
 //                           (pairs that left their swept boxes) go round again
 //   check_immovable_pairs   pairs of infinite-mass vertices only (left out of the response,
 //                           which cannot move them) tested over the final motion
+//   count_edges_over_limit  cloth edges the final motion leaves over collision.strain_limit
 //   scatter_motion          the corrected positions and velocities back into the cloths
 // Colliders are triangle meshes of infinite mass; kinematic ones move from their pose at t to
 // their pose at t + h over the step.
@@ -82,10 +83,12 @@ struct CollisionPhaseStats {
   int impact_zone_vertices = 0;
   int held_pins = 0;             // cloth pins the zones' last resort held at their start
   int immovable_collisions = 0;  // collisions between infinite-mass vertices only (check_immovable_pairs)
+  int edges_over_strain_limit = 0;  // cloth edges over collision.strain_limit at the end (count_edges_over_limit)
   int strain_limited_edges = 0;  // edge corrections by strain limiting, summed over its sweeps
   int bvh_rebuilds = 0;
   int rounds = 0;            // CCD + zone rounds run
-  bool clean = true;         // the final motion had no collision among the last candidates
+  bool clean = true;         // the final motion had no collision among the last candidates (and no pin
+                             // was held); edges over the strain limit are counted apart
 };
 
 // One collider as the phase sees it: its surface at time 0 and its motion.
@@ -130,6 +133,10 @@ class CollisionPhase {
   // nothing of finite mass to move: such pairs are left out of every response, and this tests
   // them over the final motion so that the step is not reported clean when they collide.
   void check_immovable_pairs();
+  // Counts the cloth edges longer than (1 + strain_limit) times their rest length (to the
+  // limiter's slack of 1e-3) at the end of the step, when a limit is set: what the limiter and the
+  // zones could not bring back (a zone whose pins move non-rigidly, impact_zones.hpp).
+  void count_edges_over_limit();
   void scatter_motion(std::vector<Cloth>& cloths) const;
 
   // After begin_step, for implicit Euler's contact penalty: the pairs the last step's proximity

@@ -243,6 +243,7 @@ void World::resolve_collisions(double h, StepStats& stats) {
     if (!phase.verify_motion()) break;
   }
   phase.check_immovable_pairs();
+  phase.count_edges_over_limit();
   phase.scatter_motion(cloths_);
   if (settings.energy_budget) {
     double energy_after = 0.0;
@@ -260,6 +261,7 @@ void World::resolve_collisions(double h, StepStats& stats) {
   stats.ccd_impulses = totals.ccd_impulses;
   stats.impact_zone_vertices = totals.impact_zone_vertices;
   stats.held_pins = totals.held_pins;
+  stats.edges_over_strain_limit = totals.edges_over_strain_limit;
   stats.strain_limited_edges = totals.strain_limited_edges;
   stats.contacts = totals.proximity_contacts + totals.ccd_impulses;
   stats.collisions_clean = stats.collisions_clean && totals.clean;
@@ -296,6 +298,7 @@ StepStats& StepStats::operator+=(const StepStats& step) {
   ccd_impulses += step.ccd_impulses;
   impact_zone_vertices += step.impact_zone_vertices;
   held_pins += step.held_pins;
+  edges_over_strain_limit += step.edges_over_strain_limit;
   strain_limited_edges += step.strain_limited_edges;
   collisions_clean = collisions_clean && step.collisions_clean;
   yielded_triangles += step.yielded_triangles;

@@ -196,6 +196,7 @@ TEST(HeadlessRunner, PinsHeldBackFromTheirScriptAreCountedAndWarnedOf) {
   int held = 0;
   for (const auto& row : rows) {
     ASSERT_EQ(row.count("held_pins"), 1u);
+    EXPECT_EQ(row.at("edges_over_strain_limit"), 0.0) << "no strain limit is set";
     held += static_cast<int>(row.at("held_pins"));
     if (row.at("held_pins") > 0.0) EXPECT_EQ(row.at("collisions_clean"), 0.0) << "frame " << row.at("frame");
   }
