@@ -460,11 +460,12 @@ int Run::record_and_step() {
   }
   const int held_pins = totals["held_pins"].get<int>();
   if (held_pins > 0) {
-    std::fprintf(stderr,
-                 "weft: %d times a cloth pin was held at its start of step, lagging its script, because nothing "
-                 "else kept cloth from passing through cloth (those steps are reported unclean); stats.csv's "
-                 "held_pins has them per frame. Slow the pins' script down or lower solver.time_step.\n",
-                 held_pins);
+    std::fprintf(
+        stderr,
+        "weft: %d times a cloth pin was held at its start of step, lagging its script, because nothing "
+        "else kept cloth from passing through cloth (those steps are reported unclean); stats.csv's "
+        "held_pins has them per frame. Slow the pins' script down or lower solver.time_step.\n",
+        held_pins);
   }
   if (stop_requested) {
     // A checkpoint of the last whole frame, so a preempted cluster job resumes where it stopped.

@@ -48,9 +48,9 @@ void apply_rigid_motion(CollisionStep& step, const int* vertices, int count);
 // infinite-mass ones (step.holdable: pins), stop for the step: starting from a state without
 // intersection this ends so unless vertices that cannot be held (colliders) collide.
 // If only edges over `strain`'s limit (when given) remain, the collision-free motion is kept and
-// the result is collision-free but not clean: a zone holding infinite-mass vertices that move non-rigidly with
-// respect to each other (a fixed and a turning pinned edge) has no rigid motion that follows
-// them all, and its edges to them can stay over the limit.
+// the result is collision-free but not clean: a zone holding infinite-mass vertices that move non-rigidly
+// with respect to each other (a fixed and a turning pinned edge) has no rigid motion that follows them all,
+// and its edges to them can stay over the limit.
 ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
                                       const std::vector<EdgeEdgePair>& edge_edges,
                                       const ResponseSettings& settings, ImpactZoneWorkspace& workspace,

@@ -203,15 +203,16 @@ void CollisionPhase::query_candidates(CollisionCandidates& candidates) {
   drop_immovable_pairs(candidates, &immovable_candidates_);
 }
 
-void CollisionPhase::drop_immovable_pairs(CollisionCandidates& candidates, CollisionCandidates* immovable) const {
+void CollisionPhase::drop_immovable_pairs(CollisionCandidates& candidates,
+                                          CollisionCandidates* immovable) const {
   const auto infinite = [&](int v) { return inverse_mass_[v] == 0.0; };
   const auto vertex_face_immovable = [&](const VertexFacePair& pair) {
     const auto corners = triangles_.col(pair.triangle);
     return infinite(pair.vertex) && infinite(corners[0]) && infinite(corners[1]) && infinite(corners[2]);
   };
   const auto edge_edge_immovable = [&](const EdgeEdgePair& pair) {
-    return infinite(edges_(0, pair.edge_a)) && infinite(edges_(1, pair.edge_a)) && infinite(edges_(0, pair.edge_b)) &&
-           infinite(edges_(1, pair.edge_b));
+    return infinite(edges_(0, pair.edge_a)) && infinite(edges_(1, pair.edge_a)) &&
+           infinite(edges_(0, pair.edge_b)) && infinite(edges_(1, pair.edge_b));
   };
   // Both parts keep the candidates' sorted order (and no scratch is allocated once grown).
   const auto split = [](auto& pairs, auto* kept_aside, const auto& is_immovable) {
@@ -599,8 +600,8 @@ void CollisionPhase::query_escaped_candidates(CollisionCandidates& candidates) {
 void CollisionPhase::check_immovable_pairs() {
   if (immovable_candidates_.vertex_face.empty() && immovable_candidates_.edge_edge.empty()) return;
   const auto start = Clock::now();
-  detect_collisions(make_step(), immovable_candidates_.vertex_face, immovable_candidates_.edge_edge, ccd_settings(),
-                    collisions_);
+  detect_collisions(make_step(), immovable_candidates_.vertex_face, immovable_candidates_.edge_edge,
+                    ccd_settings(), collisions_);
   stats_.narrow_ms += milliseconds_since(start);
   if (collisions_.empty()) return;
   stats_.immovable_collisions += static_cast<int>(collisions_.found.size());

@@ -83,7 +83,7 @@ struct CollisionPhaseStats {
   int impact_zone_vertices = 0;
   int held_pins = 0;             // cloth pins the zones' last resort held at their start
   int immovable_collisions = 0;  // collisions between infinite-mass vertices only (check_immovable_pairs)
-  int edges_over_strain_limit = 0;  // cloth edges over collision.strain_limit at the end (count_edges_over_limit)
+  int edges_over_strain_limit = 0;  // cloth edges left over the limit (count_edges_over_limit)
   int strain_limited_edges = 0;  // edge corrections by strain limiting, summed over its sweeps
   int bvh_rebuilds = 0;
   int rounds = 0;            // CCD + zone rounds run

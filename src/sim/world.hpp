@@ -65,9 +65,9 @@ struct StepStats {
   int impact_zone_vertices = 0;  // vertices moved rigidly by impact zones
   int edges_over_strain_limit = 0;  // cloth edges over collision.strain_limit at the end of the step (a
                                     // step can be clean, free of collisions, and leave some)
-  int held_pins = 0;             // cloth pins held at their start, lagging their script, because
-                                 // nothing else kept cloth from passing through cloth
-                                 // (collision/impact_zones.hpp); such a step is not clean
+  int held_pins = 0;                // cloth pins held at their start, lagging their script, because
+                                    // nothing else kept cloth from passing through cloth
+                                    // (collision/impact_zones.hpp); such a step is not clean
   int strain_limited_edges = 0;  // edge corrections by strain limiting (collision.strain_limit)
   bool collisions_clean = true;  // every sub-step ended without a detected collision (and no pin held)
   int newton_iterations = 0;     // implicit Euler, summed over cloths and sub-steps

@@ -188,8 +188,8 @@ TEST(HeadlessRunner, PinsHeldBackFromTheirScriptAreCountedAndWarnedOf) {
          "moving_pins": [{"edges": ["bottom", "top", "left", "right"], "vertices": [4], "velocity": [0, -2, 0]}]}]})";
   }
   const fs::path out = dir.path() / "punch";
-  const testing::ProgramResult run = run_program({weft_program, "--headless", scene, "--quiet", "--out", out.string()},
-                                    dir.file("punch.txt"));
+  const testing::ProgramResult run = run_program(
+      {weft_program, "--headless", scene, "--quiet", "--out", out.string()}, dir.file("punch.txt"));
   ASSERT_EQ(run.exit_code, 0) << run.error_text;
   const auto rows = read_stats(out / "stats.csv");
   ASSERT_EQ(rows.size(), 4u);
@@ -205,10 +205,10 @@ TEST(HeadlessRunner, PinsHeldBackFromTheirScriptAreCountedAndWarnedOf) {
   EXPECT_NE(run.error_text.find("held_pins"), std::string::npos) << run.error_text;
 
   const fs::path drape = dir.path() / "drape";
-  const testing::ProgramResult plain = run_program({weft_program, "--headless", source_dir + "/scenes/drape_sphere.json",
-                                       "--quiet", "--frames", "2", "--set", "cloths.0.grid.resolution=[8,8]",
-                                       "--out", drape.string()},
-                                      dir.file("drape.txt"));
+  const testing::ProgramResult plain =
+      run_program({weft_program, "--headless", source_dir + "/scenes/drape_sphere.json", "--quiet",
+                   "--frames", "2", "--set", "cloths.0.grid.resolution=[8,8]", "--out", drape.string()},
+                  dir.file("drape.txt"));
   ASSERT_EQ(plain.exit_code, 0) << plain.error_text;
   EXPECT_EQ(testing::read_json(drape / "summary.json")["held_pins"].get<int>(), 0);
   EXPECT_EQ(plain.error_text.find("held_pins"), std::string::npos) << plain.error_text;

@@ -153,8 +153,8 @@ TEST(CollisionScenes, FiveTurnTwistStaysCleanAndReportsEveryEdgeOverTheStrainLim
     ASSERT_EQ(report.vertices_crossed, 0) << "frame " << frame << ": " << report.first;
     if (report.edges_over_limit > 0) {
       ASSERT_GT(world.last_step_stats().edges_over_strain_limit, 0)
-          << "frame " << frame << " ends over the strain limit after a step that counted no such edge: "
-          << report.first;
+          << "frame " << frame
+          << " ends over the strain limit after a step that counted no such edge: " << report.first;
     }
   }
   EXPECT_GT(steps_with_contacts, 100) << "a twisted cloth touches itself";
