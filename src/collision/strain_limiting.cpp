@@ -15,7 +15,7 @@ StrainLimitResult limit_edge_strain(CollisionStep& step, const std::vector<doubl
     result.largest_strain_before = std::max(result.largest_strain_before, length / rest_length[e] - 1.0);
   }
   // The same test as a sweep's count below: some edge is over its limit by more than the slack.
-  if (!(1.0 + result.largest_strain_before > (1.0 + max_strain) * (1.0 + strain_limit_slack))) return result;
+  if (!(1.0 + result.largest_strain_before > over_limit_length(1.0, max_strain))) return result;
 
   for (; result.sweeps < max_sweeps;) {
     ++result.sweeps;
@@ -33,7 +33,7 @@ StrainLimitResult limit_edge_strain(CollisionStep& step, const std::vector<doubl
       const double limit = (1.0 + max_strain) * rest;
       if (!(length > limit)) continue;
       // Shorten to the limit exactly; count it when it was past the slack.
-      if (length > limit * (1.0 + strain_limit_slack)) ++corrected;
+      if (length > over_limit_length(rest, max_strain)) ++corrected;
       const Vec3 shift = (length - limit) / (length * (w_i + w_j)) * d;
       step.x_end.col(i) += w_i * shift;
       step.velocity.col(i) += (w_i / h) * shift;
@@ -51,7 +51,7 @@ bool edge_over_limit(const CollisionStep& step, const StrainBound& bound, int e)
   const int i = step.edges(0, e), j = step.edges(1, e);
   if (!(rest > 0.0) || !(step.inverse_mass[i] + step.inverse_mass[j] > 0.0)) return false;
   const double length = (step.x_end.col(j) - step.x_end.col(i)).norm();
-  if (!(length > (1.0 + bound.max_strain) * (1.0 + strain_limit_slack) * rest)) return false;
+  if (!(length > over_limit_length(rest, bound.max_strain))) return false;
   return length > (step.x_start.col(j) - step.x_start.col(i)).norm() * (1.0 + 1e-12);
 }
 

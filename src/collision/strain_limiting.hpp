@@ -16,6 +16,12 @@ namespace weft {
 // An edge within this fraction of its limit counts as limited (the sweeps stop there).
 constexpr double strain_limit_slack = 1e-3;
 
+// The length past which an edge of this rest length counts as over a limit of max_strain: the one
+// threshold the limiter's sweeps, the impact zones and the phase's count of edges left over share.
+inline double over_limit_length(double rest, double max_strain) {
+  return (1.0 + max_strain) * (1.0 + strain_limit_slack) * rest;
+}
+
 struct StrainLimitResult {
   int sweeps = 0;                      // sweeps run
   int corrected_edges = 0;             // edge corrections, summed over the sweeps
