@@ -29,14 +29,16 @@ int main(int argc, char** argv) {
     };
     line("equilibrium", gates.equilibrium(),
          "largest distance " + std::to_string(1e3 * gates.equilibrium_distance) + " mm (bound 5 mm)");
-    std::printf("             at the scene's own Newton tolerance: %.3f mm (not a gate)\n", 1e3 * gates.loose_distance);
+    std::printf("             at the scene's own Newton tolerance: %.3f mm (not a gate)\n",
+                1e3 * gates.loose_distance);
     line("strain", gates.strain(),
          "largest " + std::to_string(gates.candidate.largest_strain) + ", reference " +
              std::to_string(gates.reference.largest_strain) + " (bound +10%)");
     char shape[160];
-    std::snprintf(shape, sizeof shape, "mean height %.3f m, reference %.3f m (bound 5 cm); lowest %.3f / %.3f m",
-                  gates.candidate.final_mean_height, gates.reference.final_mean_height, gates.candidate.final_lowest,
-                  gates.reference.final_lowest);
+    std::snprintf(shape, sizeof shape,
+                  "mean height %.3f m, reference %.3f m (bound 5 cm); lowest %.3f / %.3f m",
+                  gates.candidate.final_mean_height, gates.reference.final_mean_height,
+                  gates.candidate.final_lowest, gates.reference.final_lowest);
     line("shape", gates.shape(), shape);
     line("clean", gates.clean(), std::to_string(gates.candidate.unclean_frames) + " frames with a violation");
     line("energy", gates.energy(),

@@ -18,14 +18,15 @@ TEST(TierGates, TheShippedDrapeSettingsPassEveryGate) {
   const testing::TierGates gates = testing::judge_tier(source_dir, {});
   EXPECT_TRUE(gates.equilibrium()) << "the hanging cloth settles " << 1e3 * gates.equilibrium_distance
                                    << " mm from the converged reference (bound 5 mm)";
-  EXPECT_TRUE(gates.strain()) << "largest strain " << gates.candidate.largest_strain << " against the reference's "
-                              << gates.reference.largest_strain;
-  EXPECT_TRUE(gates.shape()) << "mean height " << gates.candidate.final_mean_height << " m against the reference's "
-                             << gates.reference.final_mean_height << " m";
-  EXPECT_TRUE(gates.clean()) << gates.candidate.unclean_frames << " frames with an intersection, a vertex in the "
-                             << "sphere or an edge over the strain limit";
+  EXPECT_TRUE(gates.strain()) << "largest strain " << gates.candidate.largest_strain
+                              << " against the reference's " << gates.reference.largest_strain;
+  EXPECT_TRUE(gates.shape()) << "mean height " << gates.candidate.final_mean_height
+                             << " m against the reference's " << gates.reference.final_mean_height << " m";
+  EXPECT_TRUE(gates.clean()) << gates.candidate.unclean_frames
+                             << " frames with an intersection, a vertex inside or an edge over the limit";
   EXPECT_TRUE(gates.energy()) << "dissipated " << gates.candidate.flows.dissipated() << " J, budget error "
-                              << gates.candidate.budget_error() << " J of " << gates.candidate.initial_energy << " J";
+                              << gates.candidate.budget_error() << " J of " << gates.candidate.initial_energy
+                              << " J";
   // The reference tier itself is clean and closes its budget: the gates compare against a sound run.
   EXPECT_EQ(gates.reference.unclean_frames, 0);
   EXPECT_TRUE(gates.reference.energy_closes());
@@ -34,11 +35,12 @@ TEST(TierGates, TheShippedDrapeSettingsPassEveryGate) {
 TEST(TierGates, CandidatesThatShouldFailDo) {
   const testing::DrapeRun reference = testing::run_drape(source_dir, testing::reference_tier);
   const testing::DrapeRun capped = testing::run_drape(source_dir, {"solver.newton.max_iterations=2"});
-  EXPECT_FALSE(capped.energy_closes()) << "budget error " << capped.budget_error() << " J of "
-                                       << capped.initial_energy << " J";
+  EXPECT_FALSE(capped.energy_closes())
+      << "budget error " << capped.budget_error() << " J of " << capped.initial_energy << " J";
   const testing::DrapeRun locked = testing::run_drape(source_dir, {"solver.time_step=0.008333333333333333"});
   EXPECT_GT(std::abs(locked.final_mean_height - reference.final_mean_height), testing::shape_tolerance)
-      << "mean height " << locked.final_mean_height << " m against the reference's " << reference.final_mean_height;
+      << "mean height " << locked.final_mean_height << " m against the reference's "
+      << reference.final_mean_height;
 }
 
 }  // namespace

@@ -53,7 +53,8 @@ inline const std::vector<std::string> reference_tier = {"solver.time_step=0.0041
 // The shape gate's bound on the difference of the drapes' final mean heights (m).
 constexpr double shape_tolerance = 0.05;
 
-inline std::vector<std::string> with(std::vector<std::string> overrides, const std::vector<std::string>& more) {
+inline std::vector<std::string> with(std::vector<std::string> overrides,
+                                     const std::vector<std::string>& more) {
   overrides.insert(overrides.end(), more.begin(), more.end());
   return overrides;
 }
@@ -100,7 +101,9 @@ struct DrapeRun {
   double step_seconds = 0.0;
 
   // initial + external work - final - dissipated: what no flow accounts for.
-  double budget_error() const { return initial_energy + flows.external_work - final_energy - flows.dissipated(); }
+  double budget_error() const {
+    return initial_energy + flows.external_work - final_energy - flows.dissipated();
+  }
   // The energy gate: nothing created (dissipated >= -1% of the initial energy), the budget closed to 1%.
   bool energy_closes() const {
     return flows.dissipated() > -0.01 * initial_energy && std::abs(budget_error()) <= 0.01 * initial_energy;
@@ -149,10 +152,10 @@ struct TierGates {
 
 inline TierGates judge_tier(const std::string& source_dir, const std::vector<std::string>& candidate) {
   TierGates gates;
-  const Positions reference = settle(
-      hanging_cloth(source_dir, with(reference_tier, {"solver.newton.tolerance=1e-8",
-                                                      "solver.newton.linear_solver=cholesky"})),
-      6.0);
+  const Positions reference =
+      settle(hanging_cloth(source_dir, with(reference_tier, {"solver.newton.tolerance=1e-8",
+                                                             "solver.newton.linear_solver=cholesky"})),
+             6.0);
   const Positions settled = settle(hanging_cloth(source_dir, with({converged_hanging}, candidate)), 6.0);
   gates.equilibrium_distance = (settled - reference).colwise().norm().maxCoeff();
   const Positions loose = settle(hanging_cloth(source_dir, candidate), 6.0);
