@@ -198,7 +198,9 @@ TEST(HeadlessRunner, PinsHeldBackFromTheirScriptAreCountedAndWarnedOf) {
     ASSERT_EQ(row.count("held_pins"), 1u);
     EXPECT_EQ(row.at("edges_over_strain_limit"), 0.0) << "no strain limit is set";
     held += static_cast<int>(row.at("held_pins"));
-    if (row.at("held_pins") > 0.0) EXPECT_EQ(row.at("collisions_clean"), 0.0) << "frame " << row.at("frame");
+    if (row.at("held_pins") > 0.0) {
+      EXPECT_EQ(row.at("collisions_clean"), 0.0) << "frame " << row.at("frame");
+    }
   }
   EXPECT_GT(held, 0);
   EXPECT_EQ(testing::read_json(out / "summary.json")["held_pins"].get<int>(), held);
