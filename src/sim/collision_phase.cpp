@@ -612,10 +612,9 @@ void CollisionPhase::count_edges_over_limit() {
   if (!(settings.strain_limit > 0.0)) return;
   for (int e = 0; e < static_cast<int>(edges_.cols()); ++e) {
     const double rest = edge_rest_length_[e];
+    if (!(rest > 0.0)) continue;  // collider edges
     const double length = (x_end_.col(edges_(1, e)) - x_end_.col(edges_(0, e))).norm();
-    if (rest > 0.0 && length > over_limit_length(rest, settings.strain_limit)) {
-      ++stats_.edges_over_strain_limit;
-    }
+    if (length > over_limit_length(rest, settings.strain_limit)) ++stats_.edges_over_strain_limit;
   }
 }
 
