@@ -12,6 +12,12 @@ namespace {
 // (collinear or single-vertex zones): no rotation about those axes is determined.
 constexpr double singular_inertia_ratio = 1e-12;
 
+// Gauss-Seidel sweeps of the last-resort pull (pull_free_vertices_to_zones). A sweep in edge order
+// carries a correction along a grid's rows in one sweep and across them one ring a sweep, so this
+// covers a cloth of up to ~1,000 vertices across; the sweeps stop as soon as every edge is within
+// the limit.
+constexpr int zone_pull_sweeps = 1024;
+
 int find_root(std::vector<int>& parent, int v) {
   while (parent[v] != v) {
     parent[v] = parent[parent[v]];  // path halving
@@ -47,6 +53,37 @@ void move_end_to(CollisionStep& step, int v, const Vec3& target) {
 
 void stop_vertex(CollisionStep& step, int v) {
   if (step.inverse_mass[v] > 0.0) move_end_to(step, v, step.x_start.col(v));
+}
+
+// The zones' last resort for the strain limit, run when their passes are spent with a motion free
+// of collisions and edges still over the limit (the zones grow one ring of vertices a pass
+// through them). Every zone vertex is held (infinite mass) and the limiter's Gauss-Seidel sweeps
+// pull the free vertices until every edge with a free end is within the limit: each edge's limit
+// is a convex set, so the sweeps converge whenever the held vertices leave a motion that meets
+// them all. The pulled motion is kept only if it is clean (no collision, no edge over the
+// limit); otherwise the motion before it is restored. Returns whether it was kept.
+bool pull_free_vertices_to_zones(CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
+                                 const std::vector<EdgeEdgePair>& edge_edges,
+                                 const ResponseSettings& settings, ImpactZoneWorkspace& workspace,
+                                 const StrainBound& strain) {
+  workspace.saved_x_end = step.x_end;  // same sizes every step: no allocation once grown
+  workspace.saved_velocity = step.velocity;
+  workspace.held_inverse_mass = step.inverse_mass;
+  for (const int v : workspace.members) workspace.held_inverse_mass[v] = 0.0;
+  CollisionStep held{step.x_start,   step.x_end, step.velocity,  workspace.held_inverse_mass,
+                     step.triangles, step.edges, step.time_step, step.holdable};
+  limit_edge_strain(held, strain.rest_length, strain.max_strain, zone_pull_sweeps);
+
+  detect_collisions(step, vertex_faces, edge_edges, settings, workspace.collisions);
+  bool clean = workspace.collisions.empty();
+  for (int e = 0; clean && e < static_cast<int>(step.edges.cols()); ++e)
+    clean = !edge_over_limit(step, strain, e);
+  if (!clean) {
+    step.x_end = workspace.saved_x_end;
+    step.velocity = workspace.saved_velocity;
+    workspace.collisions.found.clear();  // the restored motion is the collision-free one before the pull
+  }
+  return clean;
 }
 
 }  // namespace
@@ -169,14 +206,24 @@ ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<Ver
     }
   }
 
-  // Fail-safe of the fail-safe. A motion the last pass left free of collisions is kept: only edges
-  // over the strain limit remain, held by a zone whose pins move non-rigidly (a fixed and a
-  // turning edge), and stopping the zone would let the pins stretch them further. Otherwise stop
-  // the zones, then everything of finite mass.
+  // Fail-safe of the fail-safe. A motion the last pass left free of collisions, with only edges
+  // over the strain limit, first has its free vertices pulled to the zones (below). If that is
+  // not clean, the motion before the pull is kept: the edges left over it are held by a zone
+  // whose pins move non-rigidly (a fixed and a turning edge), and stopping the zone would let the
+  // pins stretch them further. A motion with collisions stops the zones, then everything of
+  // finite mass.
   if (!result.clean) {
     detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
     find_stretched();
     result.clean = collisions.empty() && stretched.empty();
+    if (!result.clean && collisions.empty() && strain != nullptr) {
+      result.pulled =
+          pull_free_vertices_to_zones(step, vertex_faces, edge_edges, settings, workspace, *strain);
+      if (result.pulled) {
+        result.clean = true;
+        stretched.clear();
+      }
+    }
   }
   if (!result.clean && !collisions.empty()) {
     result.stopped = true;

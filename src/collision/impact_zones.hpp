@@ -10,7 +10,9 @@
 // colliding pair: both ends join one zone, whose rigid motion keeps the edge at its start
 // length. The Gauss-Seidel limiter runs before the zones; this catches what it could not finish
 // and what the zones' rigid motions stretch (an edge from a zone to a free vertex), so a step
-// that ends clean ends with every edge within the limit.
+// that ends clean ends with every edge within the limit. The zones grow through such edges one
+// ring of vertices a pass; when the passes run out with only edges over the limit left, the
+// free vertices are pulled to the held zones instead (resolve_impact_zones below).
 #include <vector>
 
 #include "collision/ccd_response.hpp"
@@ -27,6 +29,11 @@ struct ImpactZoneWorkspace {
   std::vector<char> in_zone;  // whether a vertex is listed in `members` (n_vertices)
   std::vector<int> stretched;  // edges over the strain limit in the current pass
   CcdCollisions collisions;
+  // The last resort's copies (impact_zones.cpp, pull_free_vertices_to_zones): the inverse masses
+  // with the zone vertices held, and the motion to restore if the pull is not clean.
+  Eigen::VectorXd held_inverse_mass;
+  Positions saved_x_end;
+  Positions saved_velocity;
 };
 
 struct ImpactZoneResult {
@@ -37,6 +44,8 @@ struct ImpactZoneResult {
   bool collision_free = false;  // the final motion has no collision (edges may be over the limit)
   bool stopped = false;   // the pass limit was reached and free vertices were stopped (x_end = x_start)
   int held = 0;           // holdable infinite-mass vertices (pins) held at their start, as a last resort
+  bool pulled = false;    // the passes were spent on edges over the limit, and pulling the free
+                          // vertices to the held zones made the motion clean (it was kept)
 };
 
 // Rigid motion of the given vertices over the step, fitted to their current motion (see above),
@@ -47,10 +56,12 @@ void apply_rigid_motion(CollisionStep& step, const int* vertices, int count);
 // the vertices in zones, then if needed every vertex of finite mass, then the holdable
 // infinite-mass ones (step.holdable: pins), stop for the step: starting from a state without
 // intersection this ends so unless vertices that cannot be held (colliders) collide.
-// If only edges over `strain`'s limit (when given) remain, the collision-free motion is kept and
-// the result is collision-free but not clean: a zone holding infinite-mass vertices that move non-rigidly
-// with respect to each other (a fixed and a turning pinned edge) has no rigid motion that follows them all,
-// and its edges to them can stay over the limit.
+// If only edges over `strain`'s limit (when given) remain, the free vertices are pulled to the
+// held zones by the limiter's sweeps, kept if that makes the motion clean (result.pulled). If it
+// does not, the collision-free motion before the pull is kept and the result is collision-free but
+// not clean: a zone holding infinite-mass vertices that move non-rigidly with respect to each
+// other (a fixed and a turning pinned edge) has no rigid motion that follows them all, and its
+// edges to them can stay over the limit.
 ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
                                       const std::vector<EdgeEdgePair>& edge_edges,
                                       const ResponseSettings& settings, ImpactZoneWorkspace& workspace,

@@ -152,5 +152,83 @@ TEST(ImpactZones, PinsDrivingClothThroughClothAreHeldWhereTheyMayBe) {
   }
 }
 
+// A strip of 12 vertices whose first vertex is a pin lifted 0.5 m over the step, the rest at rest:
+// the zones grow from the pin one vertex a pass through the edges it stretches.
+Strip lifted_strip() {
+  Strip strip(12, [](int i) { return i == 0 ? Vec3(0.0, 0.5, 0.0) : Vec3::Zero(); });
+  strip.scene.inverse_mass[0] = 0.0;
+  return strip;
+}
+
+TEST(ImpactZones, WhenThePassesRunOutTheFreeVerticesArePulledToTheZones) {
+  const double limit = 0.2 * (1.0 + 1e-3);  // a strain limit of 1 and the limiter's slack
+  // Enough passes: the zone takes the whole strip, which follows the pin rigidly.
+  {
+    Strip strip = lifted_strip();
+    CollisionStep step = strip.scene.step();
+    const StrainBound bound{strip.rest_length, 1.0};
+    ImpactZoneWorkspace workspace;
+    const ImpactZoneResult result = resolve_impact_zones(step, {}, {}, ResponseSettings{}, workspace, &bound);
+    EXPECT_TRUE(result.clean);
+    EXPECT_FALSE(result.pulled);
+    EXPECT_EQ(result.zone_vertices, 12);
+    EXPECT_NEAR(strip.scene.x_end(1, 11), 0.5, 1e-12);
+  }
+  // Two passes: a zone of the pin and two vertices, then the pull. Every edge ends within the
+  // limit, the zone follows the pin, and the far end rises less than it.
+  Strip strip = lifted_strip();
+  CollisionStep step = strip.scene.step();
+  const StrainBound bound{strip.rest_length, 1.0};
+  ResponseSettings settings;
+  settings.max_impact_zone_passes = 2;
+  ImpactZoneWorkspace workspace;
+  const ImpactZoneResult result = resolve_impact_zones(step, {}, {}, settings, workspace, &bound);
+  EXPECT_TRUE(result.clean);
+  EXPECT_TRUE(result.pulled);
+  EXPECT_FALSE(result.stopped);
+  EXPECT_EQ(result.zone_vertices, 3);
+  for (int e = 0; e < 11; ++e) {
+    EXPECT_LE(strip.length_at_end(e), limit) << "edge " << e;
+    EXPECT_FALSE(edge_over_limit(step, bound, e)) << "edge " << e;
+  }
+  for (int v = 0; v < 3; ++v) EXPECT_NEAR(strip.scene.x_end(1, v), 0.5, 1e-12) << "zone vertex " << v;
+  EXPECT_GT(strip.scene.x_end(1, 3), 0.1) << "pulled up after the zone";
+  EXPECT_GT(strip.scene.x_end(1, 4), 0.02) << "and the next (APullThatWouldCollideIsUndone needs it)";
+  EXPECT_LT(strip.scene.x_end(1, 11), 0.4) << "the far end hangs";
+  // The velocities say the same motion as the end positions.
+  for (int v = 0; v < 12; ++v) {
+    const Vec3 implied = (strip.scene.x_end.col(v) - strip.scene.x_start.col(v)) / strip.scene.h;
+    EXPECT_TRUE(strip.scene.velocity.col(v).isApprox(implied, 1e-9)) << "vertex " << v;
+  }
+}
+
+TEST(ImpactZones, APullThatWouldCollideIsUndone) {
+  // The lifted strip under a still pinned triangle 1 cm above it from x = 0.31 on: the zones'
+  // motion (the pin and two vertices rising at x <= 0.2, edge 2-3 sweeping x <= 0.3) clears it,
+  // the pull would lift vertex 4 through it. The motion before the pull is kept: collision-free,
+  // not clean, the free vertices where they were.
+  Strip strip = lifted_strip();
+  const int a = strip.scene.add_vertex(Vec3(0.31, 0.01, -1.0), Vec3::Zero(), 0.0);
+  const int b = strip.scene.add_vertex(Vec3(2.0, 0.01, -1.0), Vec3::Zero(), 0.0);
+  const int c = strip.scene.add_vertex(Vec3(0.31, 0.01, 1.0), Vec3::Zero(), 0.0);
+  strip.scene.add_triangle(a, b, c);
+  CollisionStep step = strip.scene.step();
+  const StrainBound bound{strip.rest_length, 1.0};
+  ResponseSettings settings;
+  settings.max_impact_zone_passes = 2;
+  ImpactZoneWorkspace workspace;
+  const ImpactZoneResult result = resolve_impact_zones(
+      step, strip.scene.all_vertex_faces(), strip.scene.all_edge_edges(), settings, workspace, &bound);
+  EXPECT_FALSE(result.pulled);
+  EXPECT_FALSE(result.clean);
+  EXPECT_TRUE(result.collision_free);
+  EXPECT_FALSE(result.stopped);
+  for (int v = 3; v < 12; ++v) {
+    EXPECT_TRUE(strip.scene.x_end.col(v) == strip.scene.x_start.col(v)) << "vertex " << v;
+    EXPECT_TRUE(strip.scene.velocity.col(v).isZero()) << "vertex " << v;
+  }
+  EXPECT_GT(strip.length_at_end(2), 0.4) << "edge 2-3 stays over the limit";
+}
+
 }  // namespace
 }  // namespace weft
