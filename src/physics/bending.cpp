@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -47,6 +48,24 @@ BendingTerm make_bending_term(const MeshTopology& topology, const Positions& res
   }
   term.coloring = ElementColoring(term.hinges, static_cast<int>(rest_positions.cols()));
   return term;
+}
+
+double bending_stiffness_rate(const BendingTerm& term, const Positions& rest_positions,
+                              const Eigen::VectorXd& inverse_mass) {
+  if (!term.enabled()) return 0.0;
+  if (term.model == BendingModel::quadratic) return std::numeric_limits<double>::infinity();
+  Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(rest_positions.cols());
+  for (int h = 0; h < term.hinges.cols(); ++h) {
+    const Eigen::Vector4i v = term.hinges.col(h);
+    const HingeGaussNewton hinge = hinge_bending_gauss_newton(
+        rest_positions.col(v[0]), rest_positions.col(v[1]), rest_positions.col(v[2]),
+        rest_positions.col(v[3]), term.rest[h], term.stiffness);
+    for (int k = 0; k < 4; ++k)
+      diagonal[v[k]] += hinge.curvature * hinge.angle_gradient.segment<3>(3 * k).squaredNorm();
+  }
+  double rate = 0.0;
+  for (Eigen::Index i = 0; i < diagonal.size(); ++i) rate = std::max(rate, diagonal[i] * inverse_mass[i]);
+  return rate;
 }
 
 double bending_element_energy(const BendingTerm& term, int h, const Positions& x, Vector12d* gradient,

@@ -18,14 +18,15 @@ TermEnergies& TermEnergies::operator+=(const TermEnergies& other) {
   return *this;
 }
 
-void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianStencils& stencils) {
+void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianStencils& stencils,
+                     bool hinges_in_matrix) {
   hessian.begin_pattern(static_cast<int>(model.rest_positions.cols()));
   stencils = HessianStencils{};
   if (model.springs.size() > 0) stencils.springs = hessian.add_stencil<2>(model.springs.vertices);
   if (model.membrane.enabled() || model.air_drag.enabled() || model.pressure.enabled) {
     stencils.triangles = hessian.add_stencil<3>(model.triangles);
   }
-  if (model.bending.enabled()) {
+  if (model.bending.enabled() && hinges_in_matrix) {
     stencils.hinges = hessian.add_stencil<4>(model.bending.hinges);
   }
   hessian.finish_pattern();
@@ -47,7 +48,8 @@ double evaluate_potential(const ClothModel& model, const Vec3& gravity, const Po
     terms.membrane = evaluate_membrane(model.membrane, model.triangles, x, gradient, hessian, stencils.triangles, project);
   }
   if (model.bending.enabled()) {
-    terms.bending = evaluate_bending(model.bending, x, gradient, hessian, stencils.hinges, project);
+    terms.bending = evaluate_bending(model.bending, x, gradient, stencils.hinges >= 0 ? hessian : nullptr,
+                                     stencils.hinges, project);
   }
   if (model.pressure.enabled) {
     terms.pressure = evaluate_pressure(model.pressure, model.triangles, x, gradient, hessian, stencils.triangles, project);

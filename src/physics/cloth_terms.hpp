@@ -29,10 +29,15 @@ struct HessianStencils {
 // Every element couples all its vertices, the hinges' wing tips included: leaving those blocks
 // out and lumping them onto the tips' diagonal blocks (as Weft did until 2026-11-25) halves a
 // CG product but stiffens rigid motion of the tips, so small or fine cloths froze in the air.
-void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianStencils& stencils);
+// Without `hinges_in_matrix` the hinges have no stencil (stencils.hinges = -1): their energy and
+// gradient are still evaluated, their Hessian is left out of the matrix as a whole
+// (ImplicitEulerSettings::bending_hessian_share says when).
+void prepare_hessian(const ClothModel& model, SparseHessian& hessian, HessianStencils& stencils,
+                     bool hinges_in_matrix = true);
 
 // Potential energy E(x) (elastic terms and gravity). Adds dE/dx to `gradient` and the
-// element-wise PSD-projected Hessian (if `project`) to `hessian` when they are not null.
+// element-wise PSD-projected Hessian (if `project`) to `hessian` when they are not null (the
+// terms that have a stencil in `stencils`).
 double evaluate_potential(const ClothModel& model, const Vec3& gravity, const Positions& x, Positions* gradient,
                           SparseHessian* hessian, const HessianStencils& stencils, bool project,
                           TermEnergies* energies = nullptr);

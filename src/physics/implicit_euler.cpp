@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "physics/bending.hpp"
+
 namespace weft {
 
 double newton_residual(const Positions& gradient, const Eigen::VectorXd& inverse_mass, double h) {
@@ -15,9 +17,10 @@ double newton_residual(const Positions& gradient, const Eigen::VectorXd& inverse
 
 double resting_start_residual(const Vec3& gravity, double h) { return gravity.norm() * h; }
 
-void ImplicitEulerSolver::prepare(const ClothModel& model) {
+void ImplicitEulerSolver::prepare(const ClothModel& model, bool hinges_in_matrix) {
   num_vertices_ = static_cast<int>(model.rest_positions.cols());
-  prepare_hessian(model, hessian_, stencils_);
+  hinges_in_matrix_ = hinges_in_matrix;
+  prepare_hessian(model, hessian_, stencils_, hinges_in_matrix);
   x_start_.resize(3, num_vertices_);
   x_hat_.resize(3, num_vertices_);
   gradient_.resize(3, num_vertices_);
@@ -84,7 +87,20 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   const ClothModel& model = cloth.model;
   penalty_ = penalty != nullptr && penalty->active() ? penalty : nullptr;
   ClothState& state = cloth.state;
-  if (!prepared_ || num_vertices_ != cloth.num_vertices()) prepare(model);
+  // The hinges' Hessian stays out of CG's matrix while their share of M/h^2 is small (settings'
+  // bending_hessian_share). The viewer's sliders change the bending stiffness and the density,
+  // and the step h, live: the share is recomputed when they change, and the pattern with it.
+  const double mass = model.mass.sum();
+  if (!prepared_ || model.bending.stiffness != rate_stiffness_ || mass != rate_mass_) {
+    bending_rate_ = bending_stiffness_rate(model.bending, model.rest_positions, model.inverse_mass);
+    rate_stiffness_ = model.bending.stiffness;
+    rate_mass_ = mass;
+  }
+  const bool hinges_in_matrix = settings.linear_solver == LinearSolverKind::cholesky ||
+                                !(bending_rate_ * h * h < settings.bending_hessian_share);
+  if (!prepared_ || num_vertices_ != cloth.num_vertices() || hinges_in_matrix != hinges_in_matrix_) {
+    prepare(model, hinges_in_matrix);
+  }
   report_.newton_iterations = 0;
   report_.linear_iterations = 0;
   report_.converged = false;

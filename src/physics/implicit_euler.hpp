@@ -44,6 +44,15 @@ struct ImplicitEulerSettings {
   // the next iterations work on those vertices and their neighbours only (physics/newton_tail.hpp;
   // models it supports, no contact penalty); 0 turns it off.
   double restricted_tail_share = 0.02;
+  // With conjugate gradient, the dihedral hinges' Hessian is left out of Newton's matrix while
+  // h^2 bending_stiffness_rate() (physics/bending.hpp: their share of m/h^2 on a vertex's diagonal
+  // at rest) is below this. The energy and the gradient keep them, so the answer and the residual
+  // are the same; the matrix is cheaper (a block row of the grid ~13 blocks with the hinges' wing
+  // tips, ~7 without) and further from the Hessian. Chosen by measurement (the drape at 32 to 128
+  // vertices a side and h = 1/240 or 1/120 s, docs/performance.md): at shares of 0.03 to 0.49
+  // leaving them out made the drape 2-21% faster, at 1.2 and above 19-210% slower (Newton and CG
+  // iterations grow). 0 keeps them always.
+  double bending_hessian_share = 0.75;
 };
 
 // What the last step did. The step ends at the iterate with the smallest residual it reached.
@@ -83,7 +92,7 @@ class ImplicitEulerSolver {
   const NewtonReport& last_report() const { return report_; }
 
  private:
-  void prepare(const ClothModel& model);
+  void prepare(const ClothModel& model, bool hinges_in_matrix);
   double incremental_potential(const ClothModel& model, const Vec3& gravity, const Positions& x, double h,
                                Positions* gradient, bool assemble, bool project);
   bool solve(const ImplicitEulerSettings& settings, double cg_tolerance, const Eigen::VectorXd* cg_guess);
@@ -92,6 +101,10 @@ class ImplicitEulerSolver {
   ConjugateGradientSolver::Coupling coupling_;  // penalty coupling blocks at x_linearized_
   Positions x_linearized_;                      // where the Hessian was last assembled
   bool prepared_ = false;
+  bool hinges_in_matrix_ = true;  // whether the pattern holds the hinges' stencil
+  double bending_rate_ = 0.0;     // bending_stiffness_rate() of the model (1/s^2), computed at
+  double rate_stiffness_ = 0.0;   // this bending stiffness
+  double rate_mass_ = 0.0;        // and this total mass
   int num_vertices_ = 0;
   SparseHessian hessian_;
   HessianStencils stencils_;

@@ -151,6 +151,7 @@ void NewtonTail::assemble_region(const ClothModel& model, double h, const Positi
     hessian.add_element<3>(stencils.triangles, t, element);
   }
   for (const int e : region_hinges_) {
+    if (stencils.hinges < 0) break;  // the hinges' Hessian is left out of the matrix
     bending_element_energy(model.bending, e, x, nullptr, &hessian, stencils.hinges, /*project=*/true);
   }
   const double damping = model.mass_damping > 0.0 ? model.mass_damping / h : 0.0;
