@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "physics/bending.hpp"
 
@@ -19,8 +20,17 @@ double resting_start_residual(const Vec3& gravity, double h) { return gravity.no
 
 void ImplicitEulerSolver::prepare(const ClothModel& model, bool hinges_in_matrix) {
   num_vertices_ = static_cast<int>(model.rest_positions.cols());
+  // Without the hinges, the pattern with them is kept too (full_hessian_), for the steps whose
+  // iterations run long (step()); both are built here, so switching allocates nothing.
   hinges_in_matrix_ = hinges_in_matrix;
   prepare_hessian(model, hessian_, stencils_, hinges_in_matrix);
+  if (hinges_in_matrix) {
+    full_hessian_ = SparseHessian();
+    full_stencils_ = HessianStencils{};
+  } else {
+    prepare_hessian(model, full_hessian_, full_stencils_, true);
+  }
+  light_active_ = !hinges_in_matrix;
   x_start_.resize(3, num_vertices_);
   x_hat_.resize(3, num_vertices_);
   gradient_.resize(3, num_vertices_);
@@ -65,6 +75,12 @@ double ImplicitEulerSolver::incremental_potential(const ClothModel& model, const
   return value;
 }
 
+void ImplicitEulerSolver::swap_patterns() {
+  std::swap(hessian_, full_hessian_);
+  std::swap(stencils_, full_stencils_);
+  light_active_ = !light_active_;
+}
+
 // Solves H dx = rhs_; returns false if the solver failed (for Cholesky: H not positive definite).
 bool ImplicitEulerSolver::solve(const ImplicitEulerSettings& settings, double cg_tolerance,
                                 const Eigen::VectorXd* cg_guess) {
@@ -101,6 +117,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   if (!prepared_ || num_vertices_ != cloth.num_vertices() || hinges_in_matrix != hinges_in_matrix_) {
     prepare(model, hinges_in_matrix);
   }
+  if (!hinges_in_matrix_ && !light_active_) swap_patterns();  // each step starts without them
   report_.newton_iterations = 0;
   report_.linear_iterations = 0;
   report_.converged = false;
@@ -109,6 +126,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   report_.stretched_steps = 0;
   report_.restricted_iterations = 0;
   report_.diverged_stops = 0;
+  report_.full_matrix_steps = 0;
   report_.gradient_norms.clear();
 
   // Inertial predictor; pinned vertices keep their (zero) velocity, so they stay put.
@@ -160,6 +178,13 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   tail_settings.largest_share = settings.restricted_tail_share;
   for (int iteration = 0; iteration < settings.max_newton_iterations && !report_.converged; ++iteration) {
     report_.gradient_norms.push_back(gradient_vector().norm());
+    // A step still unconverged after light_matrix_iterations without the hinges goes on with them:
+    // where the cloth folds or slides off an edge the matrix without them can stall Newton.
+    if (light_active_ && iteration == settings.light_matrix_iterations) {
+      swap_patterns();
+      ++report_.full_matrix_steps;
+      assembled = false;
+    }
     if (!assembled) evaluate_for_newton(x);  // the last step predicted convergence and was wrong
     if (iteration > 0) {
       const double ratio = report_.gradient_norms[iteration] / report_.gradient_norms[iteration - 1];

@@ -53,6 +53,13 @@ struct ImplicitEulerSettings {
   // leaving them out made the drape 2-21% faster, at 1.2 and above 19-210% slower (Newton and CG
   // iterations grow). 0 keeps them always.
   double bending_hessian_share = 0.75;
+  // A step without the hinges in the matrix that has not converged after this many Newton
+  // iterations goes on with them (the matrix with them is kept prepared beside): where a cloth
+  // folds over an edge or lies on another, the matrix without them stalls Newton (two_sheets:
+  // 159 unconverged steps in 30 frames without this, none with it). Measured 6 / 8 / 10: the
+  // drape's Newton 1,743 / 1,711 / -, friction_slope's 1,319 / 1,652 / 1,975 (1,039 with the
+  // hinges always in, 4,275 never), two_sheets' (30 frames) 4,728 / 4,512 / - (4,733 always in).
+  int light_matrix_iterations = 6;
 };
 
 // What the last step did. The step ends at the iterate with the smallest residual it reached.
@@ -67,6 +74,8 @@ struct NewtonReport {
   int restricted_iterations = 0;        // of newton_iterations, those restricted to the tail's region
   int diverged_stops = 0;               // 1 when the step stopped with the residual far above its best
                                         // for several iterations (the best iterate is returned)
+  int full_matrix_steps = 0;            // 1 when the step began without the hinges' Hessian in the
+                                        // matrix and went on with it (light_matrix_iterations)
   std::vector<double> gradient_norms;  // |grad of incremental potential| over free vertices, per iteration
 };
 
@@ -96,18 +105,22 @@ class ImplicitEulerSolver {
   double incremental_potential(const ClothModel& model, const Vec3& gravity, const Positions& x, double h,
                                Positions* gradient, bool assemble, bool project);
   bool solve(const ImplicitEulerSettings& settings, double cg_tolerance, const Eigen::VectorXd* cg_guess);
+  void swap_patterns();  // hessian_ / stencils_ with full_hessian_ / full_stencils_
 
   const ContactPenalty* penalty_ = nullptr;     // during step()
   ConjugateGradientSolver::Coupling coupling_;  // penalty coupling blocks at x_linearized_
   Positions x_linearized_;                      // where the Hessian was last assembled
   bool prepared_ = false;
-  bool hinges_in_matrix_ = true;  // whether the pattern holds the hinges' stencil
+  bool hinges_in_matrix_ = true;  // false: the hinges' Hessian starts each step out of the matrix
   double bending_rate_ = 0.0;     // bending_stiffness_rate() of the model (1/s^2), computed at
   double rate_stiffness_ = 0.0;   // this bending stiffness
   double rate_mass_ = 0.0;        // and this total mass
   int num_vertices_ = 0;
-  SparseHessian hessian_;
+  SparseHessian hessian_;  // the matrix Newton assembles and solves
   HessianStencils stencils_;
+  SparseHessian full_hessian_;  // without the hinges in the pattern: the one with them, else empty
+  HessianStencils full_stencils_;
+  bool light_active_ = false;  // hessian_ is the one without the hinges
   Positions x_start_, x_hat_, gradient_, trial_;
   Positions best_x_;  // the iterate with the smallest residual so far
   Eigen::VectorXd free_mask_;  // 1 for free coordinates, 0 for pinned (3n)

@@ -269,6 +269,7 @@ TEST(ImplicitEuler, TheHingesLeftOutOfTheMatrixChangeNeitherTheAnswerNorTheResid
   kept.bending_hessian_share = 0.0;
   ImplicitEulerSettings left_out = kept;
   left_out.bending_hessian_share = 1e9;
+  left_out.light_matrix_iterations = 1000;
   const Vec3 gravity(0.0, -9.81, 0.0);
   Cloth with = start, without = start, switched = start;
   ImplicitEulerSolver with_solver, without_solver, switched_solver;
@@ -280,9 +281,53 @@ TEST(ImplicitEuler, TheHingesLeftOutOfTheMatrixChangeNeitherTheAnswerNorTheResid
     EXPECT_LT(b.residual, kept.newton_tolerance);
     if (k == 0) {
       EXPECT_NE(a.gradient_norms, b.gradient_norms) << "another matrix, other iterates";
+      EXPECT_EQ(a.full_matrix_steps, 0);
+      EXPECT_EQ(b.full_matrix_steps, 0) << "light_matrix_iterations is past this step's iterations";
     }
     EXPECT_LT((with.state.x - without.state.x).colwise().norm().maxCoeff(), 1e-8) << "step " << k;
     EXPECT_LT((with.state.x - switched.state.x).colwise().norm().maxCoeff(), 1e-8) << "step " << k;
+  }
+}
+
+// A step begun without the hinges in the matrix goes on with them after light_matrix_iterations:
+// at 0 its iterates are the same as with the hinges always in (the switch comes before the first
+// solve), after 2 it switches once and still ends at the same answer.
+TEST(ImplicitEuler, AStepThatRunsLongWithoutTheHingesGoesOnWithThem) {
+  const double h = 1.0 / 240.0;
+  World world = small_hanging_cloth(1.0, 16, h, "conjugate_gradient");
+  for (int k = 0; k < 24; ++k) world.step();
+  const Cloth start = world.cloths()[0];
+  ImplicitEulerSettings kept;
+  kept.newton_tolerance = 1e-7;
+  kept.max_newton_iterations = 60;
+  kept.bending_hessian_share = 0.0;
+  const Vec3 gravity(0.0, -9.81, 0.0);
+  Cloth with = start;
+  ImplicitEulerSolver with_solver;
+  const NewtonReport reference = with_solver.step(with, gravity, h, kept);
+  ASSERT_TRUE(reference.converged);
+  ASSERT_GT(reference.newton_iterations, 2);
+
+  for (const int light_iterations : {0, 2}) {
+    SCOPED_TRACE(light_iterations);
+    ImplicitEulerSettings switching = kept;
+    switching.bending_hessian_share = 1e9;
+    switching.light_matrix_iterations = light_iterations;
+    Cloth cloth = start;
+    ImplicitEulerSolver solver;
+    const NewtonReport report = solver.step(cloth, gravity, h, switching);
+    EXPECT_TRUE(report.converged);
+    EXPECT_EQ(report.full_matrix_steps, 1);
+    if (light_iterations == 0) {
+      EXPECT_EQ(report.gradient_norms, reference.gradient_norms);
+    } else {
+      EXPECT_NE(report.gradient_norms, reference.gradient_norms);
+    }
+    EXPECT_LT((cloth.state.x - with.state.x).colwise().norm().maxCoeff(), 1e-8);
+    // The next step begins without them again.
+    const NewtonReport next = solver.step(cloth, gravity, h, switching);
+    EXPECT_TRUE(next.converged);
+    EXPECT_EQ(next.full_matrix_steps, 1);
   }
 }
 
