@@ -76,7 +76,7 @@ double ImplicitEulerSolver::incremental_potential(const ClothModel& model, const
 }
 
 void ImplicitEulerSolver::swap_patterns() {
-  std::swap(hessian_, full_hessian_);
+  hessian_.swap(full_hessian_);
   std::swap(stencils_, full_stencils_);
   light_active_ = !light_active_;
 }

@@ -1,6 +1,7 @@
 #include "physics/sparse_hessian.hpp"
 
 #include <algorithm>
+#include <utility>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -70,6 +71,18 @@ int SparseHessian::block_row_start(int a, int b, int r) const {
   const std::vector<int>& columns = block_columns_[a];
   const int position = static_cast<int>(std::lower_bound(columns.begin(), columns.end(), b) - columns.begin());
   return matrix_.outerIndexPtr()[3 * a + r] + 3 * position;
+}
+
+void SparseHessian::swap(SparseHessian& other) {
+  std::swap(num_vertices_, other.num_vertices_);
+  block_columns_.swap(other.block_columns_);
+  stencil_sizes_.swap(other.stencil_sizes_);
+  stencil_elements_.swap(other.stencil_elements_);
+  stencil_slots_.swap(other.stencil_slots_);
+  diagonal_slots_.swap(other.diagonal_slots_);
+  fixed_value_indices_.swap(other.fixed_value_indices_);
+  fixed_diagonal_indices_.swap(other.fixed_diagonal_indices_);
+  matrix_.swap(other.matrix_);
 }
 
 void SparseHessian::set_fixed_vertices(const std::vector<char>& fixed) {

@@ -27,6 +27,10 @@ class SparseHessian {
   // Vertices whose rows and columns become identity at finish_assembly().
   void set_fixed_vertices(const std::vector<char>& fixed);
 
+  // Exchanges patterns and values with `other` without allocating (std::swap would copy the
+  // Eigen 3.4 sparse matrix, which has no move constructor).
+  void swap(SparseHessian& other);
+
   // Zeroes every value (over the OpenMP threads: megabytes at N = 64, once a Newton iteration).
   void set_zero();
   // Adds an element's (3K x 3K) matrix; element `e` of stencil `stencil`.
