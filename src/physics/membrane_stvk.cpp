@@ -131,37 +131,66 @@ double membrane_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Mem
   const double volume = rest.area * material.thickness;
   if (!gradient && !hessian) return volume * psi;
 
-  // dF_j = sum_v w(j, v) dx_v (F = Ds Dm^-1, rows of Dm^-1 weight x1 - x0 and x2 - x0).
+  // dF_j = sum_v w(j, v) dx_v (F = Ds Dm^-1, rows of Dm^-1 weight x1 - x0 and x2 - x0); the
+  // weights of each row sum to zero (a translation does not strain the triangle).
   const Eigen::Matrix2d& dinv = rest.dm_inverse;
   Eigen::Matrix<double, 2, 3> w;
   w << -(dinv(0, 0) + dinv(1, 0)), dinv(0, 0), dinv(1, 0), -(dinv(0, 1) + dinv(1, 1)), dinv(0, 1), dinv(1, 1);
-  // de = l dx (Mandel): dE11 = F0.dF0, dE22 = F1.dF1, sqrt2 dE12 = (F0.dF1 + F1.dF0)/sqrt2.
-  Eigen::Matrix<double, 3, 9> l;
-  for (int v = 0; v < 3; ++v) {
-    l.block<1, 3>(0, 3 * v) = w(0, v) * f.col(0).transpose();
-    l.block<1, 3>(1, 3 * v) = w(1, v) * f.col(1).transpose();
-    l.block<1, 3>(2, 3 * v) = (w(1, v) * f.col(0) + w(0, v) * f.col(1)).transpose() / sqrt2;
+  // The stress as a tensor, S = [[s11, s12], [s12, s22]].
+  Eigen::Matrix2d stress_matrix;
+  stress_matrix << stress(0), stress(2) / sqrt2, stress(2) / sqrt2, stress(1);
+  // dpsi = S : dE with dE = sym(F^T dF): vertex v's gradient is F S w_v (first Piola stress times
+  // the vertex's weights).
+  if (gradient) {
+    const Matrix32d piola = volume * (f * stress_matrix);
+    for (int v = 0; v < 3; ++v) gradient->segment<3>(3 * v).noalias() = piola * w.col(v);
   }
-  if (gradient) gradient->noalias() = volume * l.transpose() * stress;
   if (hessian) {
-    // Material part l^T C l, plus the geometric part S : sym(dF^T dF'): (w^T S w)(v, u) I3.
-    // (lazyProduct: coefficient-wise, Eigen's blocked GEMM path is slow at this size.)
-    const Eigen::Matrix<double, 3, 9> tangent_l = volume * tangent * l;
-    hessian->noalias() = l.transpose().lazyProduct(tangent_l);
-    Eigen::Matrix2d stress_matrix;
-    stress_matrix << stress(0), stress(2) / sqrt2, stress(2) / sqrt2, stress(1);
+    // Material part. Vertex v changes the strain (Mandel) by de = A_v F^T dx_v with
+    // A_v = [[w0v, 0], [0, w1v], [w1v, w0v]/sqrt2] (column a weighs f_a . dx_v), so block (v, u)
+    // of l^T C l is sum_ab K_ab f_a f_b^T with K = A_v^T C A_u, a 2x2 matrix per block: the 3x3
+    // outer products f_a f_b^T are formed once. Geometric part S : sym(dF^T dF'): (w^T S w)(v, u)
+    // I3. Blocks of vertices 1 and 2 are formed; vertex 0's follow because the weights sum to zero.
     if (psd) {
-      const Principal s = principal(stress(0), stress(2) / sqrt2, stress(1));
+      const Principal s = principal(stress_matrix(0, 0), stress_matrix(0, 1), stress_matrix(1, 1));
       if (s.e_max <= 0.0) {
         stress_matrix.setZero();
       } else if (s.e_min < 0.0) {
         stress_matrix = s.e_max * max_projector(s);
       }
     }
-    const Eigen::Matrix3d geometric = volume * w.transpose() * stress_matrix * w;
-    for (int v = 0; v < 3; ++v) {
-      for (int u = 0; u < 3; ++u) hessian->block<3, 3>(3 * v, 3 * u).diagonal().array() += geometric(v, u);
+    Eigen::Matrix<double, 3, 2> mandel[2];
+    Eigen::Matrix<double, 3, 2> tangent_mandel[2];
+    for (int k = 0; k < 2; ++k) {
+      const double w0 = w(0, k + 1), w1 = w(1, k + 1);
+      mandel[k] << w0, 0.0, 0.0, w1, w1 / sqrt2, w0 / sqrt2;
+      tangent_mandel[k].noalias() = volume * (tangent * mandel[k]);
     }
+    const Eigen::Matrix3d f00 = f.col(0) * f.col(0).transpose();
+    const Eigen::Matrix3d f11 = f.col(1) * f.col(1).transpose();
+    const Eigen::Matrix3d f01 = f.col(0) * f.col(1).transpose();
+    const Eigen::Matrix2d geometric =
+        volume * (w.rightCols<2>().transpose() * stress_matrix * w.rightCols<2>());
+    const auto block = [&](int v, int u) {
+      const Eigen::Matrix2d k = mandel[v].transpose() * tangent_mandel[u];
+      Eigen::Matrix3d b = k(0, 0) * f00 + k(1, 1) * f11 + k(0, 1) * f01 + k(1, 0) * f01.transpose();
+      b.diagonal().array() += geometric(v, u);
+      return b;
+    };
+    const Eigen::Matrix3d b11 = block(0, 0);
+    const Eigen::Matrix3d b12 = block(0, 1);
+    const Eigen::Matrix3d b22 = block(1, 1);
+    const Eigen::Matrix3d b01 = -(b11 + b12.transpose());  // block (0, 1) = -(blocks (1, 1) + (2, 1))
+    const Eigen::Matrix3d b02 = -(b12 + b22);              // block (0, 2) = -(blocks (1, 2) + (2, 2))
+    hessian->block<3, 3>(0, 0) = -(b01 + b02);
+    hessian->block<3, 3>(0, 3) = b01;
+    hessian->block<3, 3>(0, 6) = b02;
+    hessian->block<3, 3>(3, 0) = b01.transpose();
+    hessian->block<3, 3>(3, 3) = b11;
+    hessian->block<3, 3>(3, 6) = b12;
+    hessian->block<3, 3>(6, 0) = b02.transpose();
+    hessian->block<3, 3>(6, 3) = b12.transpose();
+    hessian->block<3, 3>(6, 6) = b22;
   }
   return volume * psi;
 }

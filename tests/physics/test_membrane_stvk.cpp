@@ -148,6 +148,45 @@ TEST(MembraneStvk, DerivativesTaylorTestSoftCompressionInEveryRegime) {
   check_derivatives(Regime::mixed, 0.5, 7);
 }
 
+// The projected Hessian (psd = true) is positive semi-definite in every regime, equals the exact
+// one where the triangle is stretched both ways (nothing to clamp), and only adds curvature
+// elsewhere (it drops the compressive stress's negative geometric part, all of it when the
+// triangle is squeezed both ways), with the same energy and gradient.
+TEST(MembraneStvk, ProjectedHessianIsPsdAndOnlyAddsCurvature) {
+  std::mt19937 rng(11);
+  MembraneMaterial material;
+  material.compression_factor = 0.1;
+  for (const Regime regime : {Regime::stretched, Regime::compressed, Regime::mixed}) {
+    for (int trial = 0; trial < 5; ++trial) {
+      double s1, s2;
+      stretch_pair(regime, rng, s1, s2);
+      const Sample sample = random_sample(rng, s1, s2);
+      const MembraneRest rest = rest_of(sample.rest);
+      const Triangle& t = sample.deformed;
+      Vector9d gradient, projected_gradient;
+      Matrix9d hessian, projected;
+      const double energy =
+          membrane_energy(t.x[0], t.x[1], t.x[2], rest, material, &gradient, &hessian, false);
+      const double projected_energy =
+          membrane_energy(t.x[0], t.x[1], t.x[2], rest, material, &projected_gradient, &projected, true);
+      EXPECT_EQ(energy, projected_energy);
+      EXPECT_LE((gradient - projected_gradient).norm(), 1e-14 * gradient.norm());
+      const double scale = hessian.norm();
+      const Eigen::SelfAdjointEigenSolver<Matrix9d> eigen(0.5 * (projected + projected.transpose()));
+      EXPECT_GE(eigen.eigenvalues().minCoeff(), -1e-10 * scale) << "trial " << trial;
+      const Matrix9d added = projected - hessian;
+      if (regime == Regime::stretched) {
+        EXPECT_LE(added.norm(), 1e-12 * scale) << "trial " << trial;
+      } else {
+        // Squeezed both ways the stress is compressive both ways: its whole geometric part goes.
+        if (regime == Regime::compressed) EXPECT_GT(added.norm(), 1e-6 * scale) << "trial " << trial;
+        const Eigen::SelfAdjointEigenSolver<Matrix9d> change(0.5 * (added + added.transpose()));
+        EXPECT_GE(change.eigenvalues().minCoeff(), -1e-10 * scale) << "trial " << trial;
+      }
+    }
+  }
+}
+
 TEST(MembraneStvk, NoEnergyOrForceAtRestOrUnderRigidMotion) {
   std::mt19937 rng(11);
   MembraneMaterial material;
