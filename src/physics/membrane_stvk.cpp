@@ -159,6 +159,7 @@ double membrane_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Mem
         stress_matrix = s.e_max * max_projector(s);
       }
     }
+    // Index k = v - 1 for vertices v = 1, 2.
     Eigen::Matrix<double, 3, 2> mandel[2];
     Eigen::Matrix<double, 3, 2> tangent_mandel[2];
     for (int k = 0; k < 2; ++k) {
@@ -171,15 +172,16 @@ double membrane_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Mem
     const Eigen::Matrix3d f01 = f.col(0) * f.col(1).transpose();
     const Eigen::Matrix2d geometric =
         volume * (w.rightCols<2>().transpose() * stress_matrix * w.rightCols<2>());
+    // Block (v, u) of the Hessian for vertices v, u in {1, 2}.
     const auto block = [&](int v, int u) {
-      const Eigen::Matrix2d k = mandel[v].transpose() * tangent_mandel[u];
+      const Eigen::Matrix2d k = mandel[v - 1].transpose() * tangent_mandel[u - 1];
       Eigen::Matrix3d b = k(0, 0) * f00 + k(1, 1) * f11 + k(0, 1) * f01 + k(1, 0) * f01.transpose();
-      b.diagonal().array() += geometric(v, u);
+      b.diagonal().array() += geometric(v - 1, u - 1);
       return b;
     };
-    const Eigen::Matrix3d b11 = block(0, 0);
-    const Eigen::Matrix3d b12 = block(0, 1);
-    const Eigen::Matrix3d b22 = block(1, 1);
+    const Eigen::Matrix3d b11 = block(1, 1);
+    const Eigen::Matrix3d b12 = block(1, 2);
+    const Eigen::Matrix3d b22 = block(2, 2);
     const Eigen::Matrix3d b01 = -(b11 + b12.transpose());  // block (0, 1) = -(blocks (1, 1) + (2, 1))
     const Eigen::Matrix3d b02 = -(b12 + b22);              // block (0, 2) = -(blocks (1, 2) + (2, 2))
     hessian->block<3, 3>(0, 0) = -(b01 + b02);
