@@ -185,6 +185,8 @@ const std::vector<std::pair<std::string, IntegratorKind>> integrator_names = {
     {"xpbd", IntegratorKind::xpbd}};
 const std::vector<std::pair<std::string, LinearSolverKind>> linear_solver_names = {
     {"conjugate_gradient", LinearSolverKind::conjugate_gradient}, {"cholesky", LinearSolverKind::cholesky}};
+const std::vector<std::pair<std::string, Preconditioner>> preconditioner_names = {
+    {"gauss_seidel", Preconditioner::symmetric_gauss_seidel}, {"block_jacobi", Preconditioner::block_jacobi}};
 const std::vector<std::pair<std::string, BendingModel>> bending_model_names = {
     {"dihedral", BendingModel::dihedral}, {"quadratic", BendingModel::quadratic}};
 const Range pitch_range{-88.0, 88.0, false, " in [-88, 88]"};
@@ -519,6 +521,7 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
       newton.number("cg_tolerance", scene.implicit.cg_tolerance, positive);
       newton.number("cg_initial_tolerance", scene.implicit.cg_initial_tolerance, positive);
       newton.integer("max_cg_iterations", scene.implicit.max_cg_iterations, 1, 1000000);
+      newton.enumeration("cg_preconditioner", scene.implicit.cg_preconditioner, preconditioner_names);
       newton.finish();
     }
     if (const json* xpbd_value = solver.find("xpbd")) {
@@ -680,22 +683,24 @@ json scene_to_json(const SceneDesc& scene) {
   document["name"] = scene.name;
   document["gravity"] = to_json(scene.gravity);
   document["wind"] = to_json(scene.wind);
-  document["solver"] = {{"integrator", name_of(scene.integrator, integrator_names)},
-                        {"time_step", scene.time_step},
-                        {"substeps", scene.substeps},
-                        {"newton",
-                         {{"tolerance", scene.implicit.newton_tolerance},
-                          {"max_iterations", scene.implicit.max_newton_iterations},
-                          {"linear_solver", name_of(scene.implicit.linear_solver, linear_solver_names)},
-                          {"cg_tolerance", scene.implicit.cg_tolerance},
-                          {"cg_initial_tolerance", scene.implicit.cg_initial_tolerance},
-                          {"max_cg_iterations", scene.implicit.max_cg_iterations}}},
-                        {"xpbd", {{"substeps", scene.xpbd.substeps}, {"iterations", scene.xpbd.iterations}}},
-                        {"adaptive",
-                         {{"enabled", scene.adaptive.enabled},
-                          {"tolerance", scene.adaptive.tolerance},
-                          {"min_step", scene.adaptive.h_min},
-                          {"max_step", scene.adaptive.h_max}}}};
+  document["solver"] = {
+      {"integrator", name_of(scene.integrator, integrator_names)},
+      {"time_step", scene.time_step},
+      {"substeps", scene.substeps},
+      {"newton",
+       {{"tolerance", scene.implicit.newton_tolerance},
+        {"max_iterations", scene.implicit.max_newton_iterations},
+        {"linear_solver", name_of(scene.implicit.linear_solver, linear_solver_names)},
+        {"cg_tolerance", scene.implicit.cg_tolerance},
+        {"cg_initial_tolerance", scene.implicit.cg_initial_tolerance},
+        {"max_cg_iterations", scene.implicit.max_cg_iterations},
+        {"cg_preconditioner", name_of(scene.implicit.cg_preconditioner, preconditioner_names)}}},
+      {"xpbd", {{"substeps", scene.xpbd.substeps}, {"iterations", scene.xpbd.iterations}}},
+      {"adaptive",
+       {{"enabled", scene.adaptive.enabled},
+        {"tolerance", scene.adaptive.tolerance},
+        {"min_step", scene.adaptive.h_min},
+        {"max_step", scene.adaptive.h_max}}}};
   document["fps"] = scene.fps;
   document["frames"] = scene.frames;
   document["cloths"] = json::array();

@@ -17,6 +17,13 @@ void ConjugateGradientSolver::compute_preconditioner(const SparseHessian& hessia
   }
 }
 
+double ConjugateGradientSolver::dot(const Eigen::VectorXd& u, const Eigen::VectorXd& v) {
+  const int n = static_cast<int>(u.size() / 3);
+  return chunked_sum(n, partials_, [&](int begin, int end) {
+    return u.segment(3 * begin, 3 * (end - begin)).dot(v.segment(3 * begin, 3 * (end - begin)));
+  });
+}
+
 // z = P^-1 r (block Jacobi); returns r . z.
 double ConjugateGradientSolver::apply_preconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
   const int n = static_cast<int>(inverse_blocks_.size());
@@ -48,13 +55,15 @@ ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hess
     report.converged = true;
     return report;
   }
-  compute_preconditioner(hessian);
+  const bool gauss_seidel = preconditioner_ == Preconditioner::symmetric_gauss_seidel && coupling == nullptr;
+  if (gauss_seidel) {
+    if (splits_[last_split_].pattern_id() != hessian.pattern_id()) last_split_ = 1 - last_split_;
+    gauss_seidel_ = &splits_[last_split_];
+    gauss_seidel_->prepare(hessian);
+  } else {
+    compute_preconditioner(hessian);
+  }
   r_ = b;
-  const auto dot = [&](const Eigen::VectorXd& u, const Eigen::VectorXd& v) {
-    return chunked_sum(n, partials_, [&](int begin, int end) {
-      return u.segment(3 * begin, 3 * (end - begin)).dot(v.segment(3 * begin, 3 * (end - begin)));
-    });
-  };
   if (guess != nullptr) {
     hessian.multiply(*guess, q_);
     if (coupling != nullptr) (*coupling)(*guess, q_);
@@ -74,6 +83,11 @@ ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hess
   if (r_norm <= threshold) {
     report.relative_residual = r_norm / b_norm;
     report.converged = true;
+    return report;
+  }
+  if (gauss_seidel) {
+    solve_gauss_seidel(dx, threshold, max_iterations, report);
+    report.relative_residual /= b_norm;
     return report;
   }
   double rz = apply_preconditioner(r_, z_);
@@ -106,6 +120,70 @@ ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hess
   report.relative_residual = r_norm / b_norm;
   report.converged = r_norm <= threshold;
   return report;
+}
+
+// Symmetric Gauss-Seidel preconditioned CG through Eisenstat's trick. With H = L + D + U and
+// H = (D + L) + (D + U) - D, the correction e solving H e = r_0 (r_ on entry) is e = (D + U)^-1 y
+// where
+//   C y = (D + L)^-1 r_0,  C = (D + L)^-1 H (D + U)^-1 (symmetric positive definite),
+//   C p = s + (D + L)^-1 (p - D s),  s = (D + U)^-1 p:
+// one backward and one forward block solve an iteration, each off-diagonal block read once. CG
+// on C preconditioned by D^-1 (z = D r^) is CG on H preconditioned by M = (D + L) D^-1 (D + U).
+// CG's residual r^ = (D + L)^-1 (r_0 - H e) is not H's: the stopping test is on (D + L) r^, which
+// is r_0 - H e, as block Jacobi's is on its own updated residual. It costs half a product, so it
+// is computed once |r^| falls below the threshold scaled by |r^_0| / |r_0|, and when it misses,
+// that scaled threshold is tightened by the miss (and half again). On return dx holds dx + e and
+// `report` that residual's norm (not yet divided by |b|) and whether it met `threshold`.
+void ConjugateGradientSolver::solve_gauss_seidel(Eigen::VectorXd& dx, double threshold, int max_iterations,
+                                                 ConjugateGradientReport& report) {
+  const Eigen::Index size = dx.size();
+  const int n = static_cast<int>(size / 3);
+  t_.resize(size);
+  y_.setZero(size);
+  const double start_norm = std::sqrt(dot(r_, r_));
+  gauss_seidel_->solve_lower(r_, p_);
+  r_.swap(p_);  // r_ is now r^ = (D + L)^-1 r_0
+  double estimate_threshold = threshold * std::sqrt(dot(r_, r_)) / start_norm;
+  gauss_seidel_->multiply_diagonal(r_, z_);
+  double rz = dot(r_, z_);
+  p_ = z_;
+  double residual = start_norm;
+  bool checked = true;  // `residual` is (D + L) r^'s norm for the current r^
+  while (report.iterations < max_iterations) {
+    gauss_seidel_->multiply_transformed(p_, t_, q_);  // q = C p
+    const double curvature = dot(p_, q_);
+    if (!(curvature > 0.0)) break;  // not positive definite along p (or NaN): stop with what we have
+    const double alpha = rz / curvature;
+    const double r_squared = chunked_sum(n, partials_, [&](int begin, int end) {
+      const Eigen::Index first = 3 * begin, count = 3 * (end - begin);
+      y_.segment(first, count) += alpha * p_.segment(first, count);
+      r_.segment(first, count) -= alpha * q_.segment(first, count);
+      return r_.segment(first, count).squaredNorm();
+    });
+    ++report.iterations;
+    checked = false;
+    if (std::sqrt(r_squared) <= estimate_threshold) {
+      residual = std::sqrt(gauss_seidel_->lower_product_squared_norm(r_));
+      checked = true;
+      if (residual <= threshold) break;
+      estimate_threshold *= 0.5 * threshold / residual;
+    }
+    gauss_seidel_->multiply_diagonal(r_, z_);
+    const double rz_next = dot(r_, z_);
+    const double beta = rz_next / rz;
+    for_each_chunk(n, num_chunks, [&](int begin, int end) {
+      const Eigen::Index first = 3 * begin, count = 3 * (end - begin);
+      p_.segment(first, count) = z_.segment(first, count) + beta * p_.segment(first, count);
+    });
+    rz = rz_next;
+  }
+  if (!checked) residual = std::sqrt(gauss_seidel_->lower_product_squared_norm(r_));
+  if (report.iterations > 0) {
+    gauss_seidel_->solve_upper(y_, t_);
+    dx += t_;
+  }
+  report.relative_residual = residual;
+  report.converged = residual <= threshold;
 }
 
 }  // namespace weft

@@ -91,6 +91,7 @@ bool ImplicitEulerSolver::solve(const ImplicitEulerSettings& settings, double cg
     cholesky_.solve(rhs_, dx_);
     return dx_.allFinite();
   }
+  cg_.set_preconditioner(settings.cg_preconditioner);
   const ConjugateGradientReport cg = cg_.solve(hessian_, rhs_, dx_, cg_tolerance, settings.max_cg_iterations,
                                                penalty_ ? &coupling_ : nullptr, cg_guess);
   report_.linear_iterations += cg.iterations;

@@ -40,6 +40,8 @@ struct ImplicitEulerSettings {
   double cg_tolerance = 1e-6;
   double cg_initial_tolerance = 1e-2;
   int max_cg_iterations = 2000;
+  // CG's preconditioner (physics/conjugate_gradient.hpp).
+  Preconditioner cg_preconditioner = Preconditioner::symmetric_gauss_seidel;
   // With conjugate gradient, once at most this share of the free vertices is above the tolerance
   // the next iterations work on those vertices and their neighbours only (physics/newton_tail.hpp;
   // models it supports, no contact penalty); 0 turns it off.

@@ -1,6 +1,7 @@
 #include "physics/sparse_hessian.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <utility>
 
 #if defined(__SSE2__)
@@ -10,6 +11,10 @@
 #include "core/parallel_chunks.hpp"
 
 namespace weft {
+
+namespace {
+std::atomic<std::uint64_t> last_pattern_id{0};
+}  // namespace
 
 void SparseHessian::begin_pattern(int num_vertices) {
   num_vertices_ = num_vertices;
@@ -65,6 +70,7 @@ void SparseHessian::finish_pattern() {
   }
   stencil_elements_.clear();
   stencil_elements_.shrink_to_fit();
+  pattern_id_ = ++last_pattern_id;
 }
 
 int SparseHessian::block_row_start(int a, int b, int r) const {
@@ -75,6 +81,7 @@ int SparseHessian::block_row_start(int a, int b, int r) const {
 
 void SparseHessian::swap(SparseHessian& other) {
   std::swap(num_vertices_, other.num_vertices_);
+  std::swap(pattern_id_, other.pattern_id_);
   block_columns_.swap(other.block_columns_);
   stencil_sizes_.swap(other.stencil_sizes_);
   stencil_elements_.swap(other.stencil_elements_);

@@ -3,6 +3,7 @@
 // built once: each element stores where its 3x3 blocks live in the value array, so a step only
 // zeroes and adds values (no allocation, no search). Fixed (pinned) vertices become identity
 // rows and columns, so the Newton system only moves free vertices.
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -76,12 +77,16 @@ class SparseHessian {
 
   const Matrix& matrix() const { return matrix_; }
   int num_vertices() const { return num_vertices_; }
+  // Different for every pattern finish_pattern() has built in this process (0 before the first), so
+  // that what is derived from a pattern (physics/multicolor_gauss_seidel.hpp) knows when to redo it.
+  std::uint64_t pattern_id() const { return pattern_id_; }
 
  private:
   // Value index of the first of the three columns of block (a, b) in scalar row 3a + r.
   int block_row_start(int a, int b, int r) const;
 
   int num_vertices_ = 0;
+  std::uint64_t pattern_id_ = 0;
   std::vector<std::vector<int>> block_columns_;  // during pattern building: block columns per block row
   std::vector<int> stencil_sizes_;               // K of each stencil
   std::vector<Eigen::MatrixXi> stencil_elements_;

@@ -1,0 +1,226 @@
+#include "physics/multicolor_gauss_seidel.hpp"
+
+#include <algorithm>
+
+#include "core/parallel_chunks.hpp"
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace weft {
+
+namespace {
+
+// The sum over `count` blocks (9 entries each, row by row, at `blocks`) of block j times x's three
+// entries at columns[j].
+inline Vec3 block_row_sum(const double* blocks, const int* columns, int count, const double* x) {
+#if defined(__SSE2__)
+  // Each block row's first two entries in one 16-byte load, as are x's first two (as in
+  // SparseHessian::multiply).
+  __m128d v0 = _mm_setzero_pd(), v1 = _mm_setzero_pd(), v2 = _mm_setzero_pd();
+  double y0 = 0.0, y1 = 0.0, y2 = 0.0;
+  for (int j = 0; j < count; ++j) {
+    const double* block = blocks + 9 * j;
+    const double* xb = x + columns[j];
+    const __m128d x01 = _mm_loadu_pd(xb);
+    const double x2 = xb[2];
+    v0 = _mm_add_pd(v0, _mm_mul_pd(_mm_loadu_pd(block), x01));
+    v1 = _mm_add_pd(v1, _mm_mul_pd(_mm_loadu_pd(block + 3), x01));
+    v2 = _mm_add_pd(v2, _mm_mul_pd(_mm_loadu_pd(block + 6), x01));
+    y0 += block[2] * x2;
+    y1 += block[5] * x2;
+    y2 += block[8] * x2;
+  }
+  double lanes[6];
+  _mm_storeu_pd(lanes, v0);
+  _mm_storeu_pd(lanes + 2, v1);
+  _mm_storeu_pd(lanes + 4, v2);
+  return Vec3((lanes[0] + lanes[1]) + y0, (lanes[2] + lanes[3]) + y1, (lanes[4] + lanes[5]) + y2);
+#else
+  Vec3 sum = Vec3::Zero();
+  for (int j = 0; j < count; ++j)
+    sum += Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> >(blocks + 9 * j) *
+           Eigen::Map<const Vec3>(x + columns[j]);
+  return sum;
+#endif
+}
+
+// Blocks of the Hessian before the one whose first value is at `offset` in block row a: each
+// block holds 9 values, and block row a's first is at starts[3 a].
+inline int block_index(const int* starts, int a, int offset) {
+  return starts[3 * a] / 9 + (offset - starts[3 * a]) / 3;
+}
+
+}  // namespace
+
+// Greedy colouring in vertex order (each vertex takes the smallest colour none of its block
+// neighbours has), then each row's off-diagonal blocks split by colour into lower and upper.
+void MulticolorGaussSeidel::analyse_pattern(const SparseHessian& hessian) {
+  const int n = hessian.num_vertices();
+  const SparseHessian::Matrix& matrix = hessian.matrix();
+  const int* starts = matrix.outerIndexPtr();
+  const int* columns = matrix.innerIndexPtr();
+  const auto for_each_neighbour = [&](int a, const auto& body) {
+    for (int k = starts[3 * a]; k < starts[3 * a + 1]; k += 3) {
+      const int b = columns[k] / 3;
+      if (b != a) body(b, k);
+    }
+  };
+
+  std::vector<int> color(n, -1);
+  std::vector<char> taken;
+  int num_colors = 0;
+  for (int a = 0; a < n; ++a) {
+    taken.assign(num_colors + 1, 0);
+    for_each_neighbour(a, [&](int b, int) {
+      if (color[b] >= 0) taken[color[b]] = 1;
+    });
+    color[a] = static_cast<int>(std::find(taken.begin(), taken.end(), 0) - taken.begin());
+    num_colors = std::max(num_colors, color[a] + 1);
+  }
+
+  color_starts_.assign(num_colors + 1, 0);
+  for (int a = 0; a < n; ++a) ++color_starts_[color[a] + 1];
+  for (int c = 0; c < num_colors; ++c) color_starts_[c + 1] += color_starts_[c];
+  order_.resize(n);
+  std::vector<int> next(color_starts_.begin(), color_starts_.end() - 1);
+  for (int a = 0; a < n; ++a) order_[next[color[a]]++] = a;
+
+  // Each row's lower and upper blocks in colour order; where each block of the Hessian goes.
+  lower_starts_.assign(1, 0);
+  upper_starts_.assign(1, 0);
+  lower_columns_.clear();
+  upper_columns_.clear();
+  destinations_.assign(matrix.nonZeros() / 9, -1);
+  for (int k = 0; k < n; ++k) {
+    const int a = order_[k];
+    for_each_neighbour(a, [&](int b, int offset) {
+      const bool lower = color[b] < color[a];
+      std::vector<int>& list = lower ? lower_columns_ : upper_columns_;
+      destinations_[block_index(starts, a, offset)] = 2 * static_cast<int>(list.size()) + (lower ? 0 : 1);
+      list.push_back(3 * b);
+    });
+    lower_starts_.push_back(static_cast<int>(lower_columns_.size()));
+    upper_starts_.push_back(static_cast<int>(upper_columns_.size()));
+  }
+  positions_.resize(n);
+  for (int k = 0; k < n; ++k) positions_[order_[k]] = k;
+  lower_values_.resize(9 * lower_columns_.size());
+  upper_values_.resize(9 * upper_columns_.size());
+  diagonal_.resize(n);
+  inverse_diagonal_.resize(n);
+  remainder_.resize(3 * n);
+  solved_.resize(3 * n);
+  pattern_id_ = hessian.pattern_id();
+}
+
+// One pass over the Hessian in its own order: each row's blocks copied where the solves read them.
+void MulticolorGaussSeidel::prepare(const SparseHessian& hessian) {
+  if (hessian.pattern_id() != pattern_id_) analyse_pattern(hessian);
+  const int n = hessian.num_vertices();
+  const SparseHessian::Matrix& matrix = hessian.matrix();
+  const int* starts = matrix.outerIndexPtr();
+  const double* values = matrix.valuePtr();
+#pragma omp parallel for schedule(static)
+  for (int a = 0; a < n; ++a) {
+    const int begin = starts[3 * a];
+    const int width = starts[3 * a + 1] - begin;
+    const int* destinations = destinations_.data() + block_index(starts, a, begin);
+    const int k = positions_[a];
+    for (int i = 0; i < width / 3; ++i) {
+      const double* source = values + begin + 3 * i;  // the block's first row; the others `width` on
+      const int destination = destinations[i];
+      if (destination < 0) {
+        Mat3& diagonal = diagonal_[k];
+        for (int r = 0; r < 3; ++r) {
+          for (int c = 0; c < 3; ++c) diagonal(r, c) = source[r * width + c];
+        }
+        inverse_diagonal_[k] = diagonal.inverse();
+        continue;
+      }
+      double* block =
+          (destination % 2 == 0 ? lower_values_.data() : upper_values_.data()) + 9 * (destination / 2);
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) block[3 * r + c] = source[r * width + c];
+      }
+    }
+  }
+}
+
+std::vector<int> MulticolorGaussSeidel::colors() const {
+  std::vector<int> color(order_.size());
+  for (int c = 0; c < num_colors(); ++c) {
+    for (int k = color_starts_[c]; k < color_starts_[c + 1]; ++k) color[order_[k]] = c;
+  }
+  return color;
+}
+
+// out_a = D_a^-1 (rhs_a - sum over the row's lower (upper) blocks H_ab out_b), colour by colour
+// in order (in reverse), the rows of a colour shared among the threads; then finish(k, a, out_a).
+// `out` must not be `rhs`.
+template <bool lower, class Finish>
+void MulticolorGaussSeidel::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out,
+                                  const Finish& finish) const {
+  const std::vector<int>& block_starts = lower ? lower_starts_ : upper_starts_;
+  const int* columns = lower ? lower_columns_.data() : upper_columns_.data();
+  const double* values = lower ? lower_values_.data() : upper_values_.data();
+  double* solved = out.data();
+  const int colors = num_colors();
+#pragma omp parallel
+  for (int step = 0; step < colors; ++step) {
+    const int c = lower ? step : colors - 1 - step;
+#pragma omp for schedule(static)
+    for (int k = color_starts_[c]; k < color_starts_[c + 1]; ++k) {
+      const int a = order_[k];
+      const Vec3 sum = block_row_sum(values + 9 * block_starts[k], columns + block_starts[k],
+                                     block_starts[k + 1] - block_starts[k], solved);
+      const Vec3 value = inverse_diagonal_[k] * (rhs.segment<3>(3 * a) - sum);
+      out.segment<3>(3 * a) = value;
+      finish(k, a, value);
+    }
+  }
+}
+
+void MulticolorGaussSeidel::solve_lower(const Eigen::VectorXd& w, Eigen::VectorXd& u) const {
+  solve<true>(w, u, [](int, int, const Vec3&) {});
+}
+
+void MulticolorGaussSeidel::solve_upper(const Eigen::VectorXd& v, Eigen::VectorXd& t) const {
+  solve<false>(v, t, [](int, int, const Vec3&) {});
+}
+
+void MulticolorGaussSeidel::multiply_transformed(const Eigen::VectorXd& p, Eigen::VectorXd& t,
+                                                 Eigen::VectorXd& q) {
+  solve<false>(p, t, [&](int k, int a, const Vec3& t_a) {
+    remainder_.segment<3>(3 * a) = p.segment<3>(3 * a) - diagonal_[k] * t_a;
+  });
+  solve<true>(remainder_, solved_,
+              [&](int, int a, const Vec3& u_a) { q.segment<3>(3 * a) = u_a + t.segment<3>(3 * a); });
+}
+
+double MulticolorGaussSeidel::lower_product_squared_norm(const Eigen::VectorXd& x) {
+  const double* entries = x.data();
+  return chunked_sum(static_cast<int>(order_.size()), partials_, [&](int begin, int end) {
+    double sum = 0.0;
+    for (int k = begin; k < end; ++k) {
+      const int a = order_[k];
+      const Vec3 lower =
+          block_row_sum(lower_values_.data() + 9 * lower_starts_[k], lower_columns_.data() + lower_starts_[k],
+                        lower_starts_[k + 1] - lower_starts_[k], entries);
+      sum += (diagonal_[k] * x.segment<3>(3 * a) + lower).squaredNorm();
+    }
+    return sum;
+  });
+}
+
+void MulticolorGaussSeidel::multiply_diagonal(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  const int n = static_cast<int>(diagonal_.size());
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < n; ++k) {
+    const int a = order_[k];
+    y.segment<3>(3 * a) = diagonal_[k] * x.segment<3>(3 * a);
+  }
+}
+
+}  // namespace weft

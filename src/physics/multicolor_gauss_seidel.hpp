@@ -1,0 +1,78 @@
+#pragma once
+// Symmetric Gauss-Seidel for conjugate gradient, in multicolour order. With the Hessian split
+// into its 3x3 diagonal blocks D and the blocks below and above them, H = L + D + U (U = L^T), the
+// preconditioner is M = (D + L) D^-1 (D + U); CG applies it through Eisenstat's trick
+// (physics/conjugate_gradient.cpp), which needs only the two block triangular solves below and
+// a product with D.
+//
+// "Below" is in an order of the vertices by colour: a greedy colouring of the block pattern, in
+// which no two vertices that share a block have the same colour. The blocks of a row whose
+// column has an earlier colour are L's, a later colour U's; rows of one colour do not depend on
+// each other, so each colour's rows are solved in parallel (a barrier between colours), and
+// each off-diagonal block is read once by the two solves together (each row's lower and upper
+// blocks are listed apart), as in one product with H. Every row sums in a fixed order: the same
+// bits on any number of threads.
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/math.hpp"
+#include "physics/sparse_hessian.hpp"
+
+namespace weft {
+
+class MulticolorGaussSeidel {
+ public:
+  // Colours the pattern and lists each row's lower and upper blocks when `hessian`'s pattern is
+  // new (its pattern_id()), then reads its diagonal blocks and their inverses (which must exist:
+  // the assembled Hessian's diagonal blocks are positive definite). No allocation once a pattern
+  // has been seen.
+  void prepare(const SparseHessian& hessian);
+
+  // u = (D + L)^-1 w, colour by colour in order (u sized by the caller, not w).
+  void solve_lower(const Eigen::VectorXd& w, Eigen::VectorXd& u) const;
+  // t = (D + U)^-1 v, colour by colour in reverse (t not v).
+  void solve_upper(const Eigen::VectorXd& v, Eigen::VectorXd& t) const;
+  // q = C p with C = (D + L)^-1 H (D + U)^-1, as Eisenstat's trick forms it: t = (D + U)^-1 p,
+  // then q = t + (D + L)^-1 (p - D t). Also leaves t in `t` (sized by the caller, as q).
+  void multiply_transformed(const Eigen::VectorXd& p, Eigen::VectorXd& t, Eigen::VectorXd& q);
+  // y = D x.
+  void multiply_diagonal(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  // |(D + L) x|^2, summed over a fixed number of chunks in order.
+  double lower_product_squared_norm(const Eigen::VectorXd& x);
+
+  // The pattern_id() of the Hessian the split was made for (0 before the first).
+  std::uint64_t pattern_id() const { return pattern_id_; }
+  int num_colors() const { return std::max(0, static_cast<int>(color_starts_.size()) - 1); }
+  // The colour of each vertex (for tests).
+  std::vector<int> colors() const;
+
+ private:
+  void analyse_pattern(const SparseHessian& hessian);
+  // out_a = D_a^-1 (rhs_a - sum of the row's lower (upper) blocks times out), then finish(k, a, out_a) (k the
+  // position of a).
+  template <bool lower, class Finish>
+  void solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out, const Finish& finish) const;
+
+  std::uint64_t pattern_id_ = 0;
+  std::vector<int> order_;                        // vertices by colour, ascending within one (n)
+  std::vector<int> color_starts_;                 // where each colour begins in order_ (colours + 1)
+  std::vector<int> lower_starts_, upper_starts_;  // per position (n + 1): its blocks' range below
+  // Off-diagonal blocks of the rows in order_, the lower ones and the upper ones apart: x's first
+  // entry 3 b for block column b, the value index in the Hessian of the block's first scalar row
+  // (its others `stride` apart) and its entries copied there row by row (9 each), so that a
+  // solve reads them in order.
+  std::vector<int> lower_columns_, upper_columns_;
+  std::vector<int>
+      destinations_;            // per block of the Hessian in its order: 2 j (lower j), 2 j + 1 (upper j), -1
+  std::vector<int> positions_;  // per vertex: its position in order_
+  std::vector<double> lower_values_, upper_values_;
+  std::vector<Mat3> diagonal_, inverse_diagonal_;  // per position in order_
+  std::array<double, 64> partials_{};
+  Eigen::VectorXd remainder_, solved_;  // multiply_transformed's p - D t and (D + L)^-1 of it
+};
+
+}  // namespace weft
