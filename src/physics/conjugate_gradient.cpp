@@ -24,6 +24,24 @@ double ConjugateGradientSolver::dot(const Eigen::VectorXd& u, const Eigen::Vecto
   });
 }
 
+double ConjugateGradientSolver::step_along_direction(double alpha, Eigen::VectorXd& x) {
+  const int n = static_cast<int>(x.size() / 3);
+  return chunked_sum(n, partials_, [&](int begin, int end) {
+    const Eigen::Index first = 3 * begin, count = 3 * (end - begin);
+    x.segment(first, count) += alpha * p_.segment(first, count);
+    r_.segment(first, count) -= alpha * q_.segment(first, count);
+    return r_.segment(first, count).squaredNorm();
+  });
+}
+
+void ConjugateGradientSolver::next_direction(double beta) {
+  const int n = static_cast<int>(p_.size() / 3);
+  for_each_chunk(n, num_chunks, [&](int begin, int end) {
+    const Eigen::Index first = 3 * begin, count = 3 * (end - begin);
+    p_.segment(first, count) = z_.segment(first, count) + beta * p_.segment(first, count);
+  });
+}
+
 // z = P^-1 r (block Jacobi); returns r . z.
 double ConjugateGradientSolver::apply_preconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
   const int n = static_cast<int>(inverse_blocks_.size());
@@ -100,21 +118,13 @@ ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hess
     const double curvature = dot(p_, q_);
     if (!(curvature > 0.0)) break;  // not positive definite along p (or NaN): stop with what we have
     const double alpha = rz / curvature;
-    const double r_squared = chunked_sum(n, partials_, [&](int begin, int end) {
-      const Eigen::Index first = 3 * begin, count = 3 * (end - begin);
-      dx.segment(first, count) += alpha * p_.segment(first, count);
-      r_.segment(first, count) -= alpha * q_.segment(first, count);
-      return r_.segment(first, count).squaredNorm();
-    });
+    const double r_squared = step_along_direction(alpha, dx);
     ++report.iterations;
     r_norm = std::sqrt(r_squared);
     if (r_norm <= threshold) break;
     const double rz_next = apply_preconditioner(r_, z_);
     const double beta = rz_next / rz;
-    for_each_chunk(n, num_chunks, [&](int begin, int end) {
-      const Eigen::Index first = 3 * begin, count = 3 * (end - begin);
-      p_.segment(first, count) = z_.segment(first, count) + beta * p_.segment(first, count);
-    });
+    next_direction(beta);
     rz = rz_next;
   }
   report.relative_residual = r_norm / b_norm;
@@ -137,7 +147,6 @@ ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hess
 void ConjugateGradientSolver::solve_gauss_seidel(Eigen::VectorXd& dx, double threshold, int max_iterations,
                                                  ConjugateGradientReport& report) {
   const Eigen::Index size = dx.size();
-  const int n = static_cast<int>(size / 3);
   t_.resize(size);
   y_.setZero(size);
   const double start_norm = std::sqrt(dot(r_, r_));
@@ -154,12 +163,7 @@ void ConjugateGradientSolver::solve_gauss_seidel(Eigen::VectorXd& dx, double thr
     const double curvature = dot(p_, q_);
     if (!(curvature > 0.0)) break;  // not positive definite along p (or NaN): stop with what we have
     const double alpha = rz / curvature;
-    const double r_squared = chunked_sum(n, partials_, [&](int begin, int end) {
-      const Eigen::Index first = 3 * begin, count = 3 * (end - begin);
-      y_.segment(first, count) += alpha * p_.segment(first, count);
-      r_.segment(first, count) -= alpha * q_.segment(first, count);
-      return r_.segment(first, count).squaredNorm();
-    });
+    const double r_squared = step_along_direction(alpha, y_);
     ++report.iterations;
     checked = false;
     if (std::sqrt(r_squared) <= estimate_threshold) {
@@ -171,10 +175,7 @@ void ConjugateGradientSolver::solve_gauss_seidel(Eigen::VectorXd& dx, double thr
     gauss_seidel_->multiply_diagonal(r_, z_);
     const double rz_next = dot(r_, z_);
     const double beta = rz_next / rz;
-    for_each_chunk(n, num_chunks, [&](int begin, int end) {
-      const Eigen::Index first = 3 * begin, count = 3 * (end - begin);
-      p_.segment(first, count) = z_.segment(first, count) + beta * p_.segment(first, count);
-    });
+    next_direction(beta);
     rz = rz_next;
   }
   if (!checked) residual = std::sqrt(gauss_seidel_->lower_product_squared_norm(r_));

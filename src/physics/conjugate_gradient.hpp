@@ -52,6 +52,10 @@ class ConjugateGradientSolver {
   void compute_preconditioner(const SparseHessian& hessian);
   double apply_preconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z);
   double dot(const Eigen::VectorXd& u, const Eigen::VectorXd& v);
+  // x += alpha p, r -= alpha q in one pass; returns |r|^2.
+  double step_along_direction(double alpha, Eigen::VectorXd& x);
+  // p = z + beta p.
+  void next_direction(double beta);
   // CG for the correction to dx (r_ = b - H dx on entry) on Eisenstat's transformed system.
   void solve_gauss_seidel(Eigen::VectorXd& dx, double threshold, int max_iterations,
                           ConjugateGradientReport& report);

@@ -179,7 +179,9 @@ TEST(MembraneStvk, ProjectedHessianIsPsdAndOnlyAddsCurvature) {
         EXPECT_LE(added.norm(), 1e-12 * scale) << "trial " << trial;
       } else {
         // Squeezed both ways the stress is compressive both ways: its whole geometric part goes.
-        if (regime == Regime::compressed) EXPECT_GT(added.norm(), 1e-6 * scale) << "trial " << trial;
+        if (regime == Regime::compressed) {
+          EXPECT_GT(added.norm(), 1e-6 * scale) << "trial " << trial;
+        }
         const Eigen::SelfAdjointEigenSolver<Matrix9d> change(0.5 * (added + added.transpose()));
         EXPECT_GE(change.eigenvalues().minCoeff(), -1e-10 * scale) << "trial " << trial;
       }
