@@ -3,10 +3,7 @@
 #include <algorithm>
 
 #include "core/parallel_chunks.hpp"
-
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "physics/block_row_product.hpp"
 
 namespace weft {
 
@@ -15,35 +12,10 @@ namespace {
 // The sum over `count` blocks (9 entries each, row by row, at `blocks`) of block j times x's three
 // entries at columns[j].
 inline Vec3 block_row_sum(const double* blocks, const int* columns, int count, const double* x) {
-#if defined(__SSE2__)
-  // Each block row's first two entries in one 16-byte load, as are x's first two (as in
-  // SparseHessian::multiply).
-  __m128d v0 = _mm_setzero_pd(), v1 = _mm_setzero_pd(), v2 = _mm_setzero_pd();
-  double y0 = 0.0, y1 = 0.0, y2 = 0.0;
-  for (int j = 0; j < count; ++j) {
-    const double* block = blocks + 9 * j;
-    const double* xb = x + columns[j];
-    const __m128d x01 = _mm_loadu_pd(xb);
-    const double x2 = xb[2];
-    v0 = _mm_add_pd(v0, _mm_mul_pd(_mm_loadu_pd(block), x01));
-    v1 = _mm_add_pd(v1, _mm_mul_pd(_mm_loadu_pd(block + 3), x01));
-    v2 = _mm_add_pd(v2, _mm_mul_pd(_mm_loadu_pd(block + 6), x01));
-    y0 += block[2] * x2;
-    y1 += block[5] * x2;
-    y2 += block[8] * x2;
-  }
-  double lanes[6];
-  _mm_storeu_pd(lanes, v0);
-  _mm_storeu_pd(lanes + 2, v1);
-  _mm_storeu_pd(lanes + 4, v2);
-  return Vec3((lanes[0] + lanes[1]) + y0, (lanes[2] + lanes[3]) + y1, (lanes[4] + lanes[5]) + y2);
-#else
-  Vec3 sum = Vec3::Zero();
-  for (int j = 0; j < count; ++j)
-    sum += Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> >(blocks + 9 * j) *
-           Eigen::Map<const Vec3>(x + columns[j]);
+  Vec3 sum;
+  block_row_product(
+      blocks, count, 9, 3, [&](int j) { return x + columns[j]; }, sum.data());
   return sum;
-#endif
 }
 
 // Blocks of the Hessian before the one whose first value is at `offset` in block row a: each

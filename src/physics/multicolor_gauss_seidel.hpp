@@ -61,13 +61,13 @@ class MulticolorGaussSeidel {
   std::vector<int> order_;                        // vertices by colour, ascending within one (n)
   std::vector<int> color_starts_;                 // where each colour begins in order_ (colours + 1)
   std::vector<int> lower_starts_, upper_starts_;  // per position (n + 1): its blocks' range below
-  // Off-diagonal blocks of the rows in order_, the lower ones and the upper ones apart: x's first
-  // entry 3 b for block column b, the value index in the Hessian of the block's first scalar row
-  // (its others `stride` apart) and its entries copied there row by row (9 each), so that a
-  // solve reads them in order.
+  // Off-diagonal blocks of the rows in order_, the lower ones and the upper ones apart, so that a
+  // solve reads them in order: x's first entry 3 b for block column b, and the block's 9 values
+  // row by row (copied there by prepare()).
   std::vector<int> lower_columns_, upper_columns_;
-  std::vector<int>
-      destinations_;            // per block of the Hessian in its order: 2 j (lower j), 2 j + 1 (upper j), -1
+  // Per block of the Hessian, in its order: where prepare() copies it, 2 j for lower block j,
+  // 2 j + 1 for upper block j, -1 for a diagonal block.
+  std::vector<int> destinations_;
   std::vector<int> positions_;  // per vertex: its position in order_
   std::vector<double> lower_values_, upper_values_;
   std::vector<Mat3> diagonal_, inverse_diagonal_;  // per position in order_

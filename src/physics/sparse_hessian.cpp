@@ -4,11 +4,8 @@
 #include <atomic>
 #include <utility>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include "core/parallel_chunks.hpp"
+#include "physics/block_row_product.hpp"
 
 namespace weft {
 
@@ -139,73 +136,21 @@ void SparseHessian::zero_block_rows(const std::vector<int>& vertices) {
   for (const int a : vertices) std::fill(values + starts[3 * a], values + starts[3 * a + 3], 0.0);
 }
 
-namespace {
-
-// y[0..2] = block row a times x: the row's three scalar rows start at row0 and hold `width`
-// entries each, their block columns listed at `columns` (every third entry); `entries(c)` gives
-// x's three entries for scalar column c = 3b, or nullptr for a block left out.
-template <class Entries>
-void block_row_product(const double* row0, int width, const int* columns, Entries&& entries, double* y) {
-  const double* row1 = row0 + width;
-  const double* row2 = row1 + width;
-#if defined(__SSE2__)
-  // Columns 0 and 1 of each block row in one 16-byte load (as are x's first two entries), column
-  // 2 apart: 9 loads a block instead of 13, which is what bounds this loop.
-  __m128d v0 = _mm_setzero_pd(), v1 = _mm_setzero_pd(), v2 = _mm_setzero_pd();
-  double y0 = 0.0, y1 = 0.0, y2 = 0.0;
-  for (int k = 0; k < width; k += 3) {
-    const double* xb = entries(columns[k]);
-    if (xb == nullptr) continue;
-    const __m128d x01 = _mm_loadu_pd(xb);
-    const double x2 = xb[2];
-    v0 = _mm_add_pd(v0, _mm_mul_pd(_mm_loadu_pd(row0 + k), x01));
-    v1 = _mm_add_pd(v1, _mm_mul_pd(_mm_loadu_pd(row1 + k), x01));
-    v2 = _mm_add_pd(v2, _mm_mul_pd(_mm_loadu_pd(row2 + k), x01));
-    y0 += row0[k + 2] * x2;
-    y1 += row1[k + 2] * x2;
-    y2 += row2[k + 2] * x2;
-  }
-  double lanes[6];
-  _mm_storeu_pd(lanes, v0);
-  _mm_storeu_pd(lanes + 2, v1);
-  _mm_storeu_pd(lanes + 4, v2);
-  y[0] = (lanes[0] + lanes[1]) + y0;
-  y[1] = (lanes[2] + lanes[3]) + y1;
-  y[2] = (lanes[4] + lanes[5]) + y2;
-#else
-  // The same sums in the same order as the SSE2 path.
-  double s0[3] = {0.0, 0.0, 0.0}, s1[3] = {0.0, 0.0, 0.0}, s2[3] = {0.0, 0.0, 0.0};
-  for (int k = 0; k < width; k += 3) {
-    const double* xb = entries(columns[k]);
-    if (xb == nullptr) continue;
-    for (int c = 0; c < 3; ++c) {
-      s0[c] += row0[k + c] * xb[c];
-      s1[c] += row1[k + c] * xb[c];
-      s2[c] += row2[k + c] * xb[c];
-    }
-  }
-  y[0] = (s0[0] + s0[1]) + s0[2];
-  y[1] = (s1[0] + s1[1]) + s1[2];
-  y[2] = (s2[0] + s2[1]) + s2[2];
-#endif
-}
-
-}  // namespace
-
 void SparseHessian::multiply_region(const std::vector<int>& rows, const std::vector<int>& local,
                                     const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   const int* starts = matrix_.outerIndexPtr();
   const int* columns = matrix_.innerIndexPtr();
   const double* values = matrix_.valuePtr();
   const double* in = x.data();
-  const auto entries = [&](int column) -> const double* {
-    const int b = local[column / 3];
-    return b >= 0 ? in + 3 * b : nullptr;
-  };
+  // Block row a's three scalar rows hold `width` entries each, its blocks' columns 3b, 3b+1, 3b+2.
   for (size_t k = 0; k < rows.size(); ++k) {
     const int begin = starts[3 * rows[k]];
-    block_row_product(values + begin, starts[3 * rows[k] + 1] - begin, columns + begin, entries,
-                      y.data() + 3 * k);
+    const int width = starts[3 * rows[k] + 1] - begin;
+    const auto entries = [&](int j) -> const double* {
+      const int b = local[columns[begin + 3 * j] / 3];
+      return b >= 0 ? in + 3 * b : nullptr;
+    };
+    block_row_product(values + begin, width / 3, 3, width, entries, y.data() + 3 * k);
   }
 }
 
@@ -217,11 +162,14 @@ void SparseHessian::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const
   const double* values = matrix_.valuePtr();
   const double* in = x.data();
   double* out = y.data();
-  const auto entries = [&](int column) -> const double* { return in + column; };
 #pragma omp parallel for schedule(static)
   for (int a = 0; a < num_vertices_; ++a) {
     const int begin = starts[3 * a];
-    block_row_product(values + begin, starts[3 * a + 1] - begin, columns + begin, entries, out + 3 * a);
+    const int width = starts[3 * a + 1] - begin;
+    const int* row_columns = columns + begin;
+    block_row_product(
+        values + begin, width / 3, 3, width, [&](int j) -> const double* { return in + row_columns[3 * j]; },
+        out + 3 * a);
   }
 }
 
