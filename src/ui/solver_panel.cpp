@@ -61,6 +61,14 @@ void draw_solver_panel(SimulationSession& session) {
     if (ImGui::Combo("linear solver", &solver, "conjugate gradient\0Cholesky\0")) {
       settings.implicit.linear_solver = solver == 1 ? LinearSolverKind::cholesky : LinearSolverKind::conjugate_gradient;
     }
+    if (settings.implicit.linear_solver == LinearSolverKind::conjugate_gradient) {
+      // Takes effect at the next solve (the Gauss-Seidel split is made on its first use).
+      int preconditioner = settings.implicit.cg_preconditioner == Preconditioner::block_jacobi ? 1 : 0;
+      if (ImGui::Combo("CG preconditioner", &preconditioner, "symmetric Gauss-Seidel\0block Jacobi\0")) {
+        settings.implicit.cg_preconditioner =
+            preconditioner == 1 ? Preconditioner::block_jacobi : Preconditioner::symmetric_gauss_seidel;
+      }
+    }
     input_double("CG tolerance", settings.implicit.cg_tolerance, 1e-14, "%.2e");
     ImGui::TreePop();
   }
