@@ -74,18 +74,25 @@ void visit_leaf_pairs(const Bvh& first, const Bvh& second, int a, int b, int thr
 
 // Visits every pair of entries whose boxes overlap: of `first` against `second`, or with `self`
 // (second is first) every unordered pair of distinct entries once, except those within a node
-// flagged in `culled`. Runs on `num_threads` OpenMP threads (visit's `thread` is below it, so
+// flagged in `culled`; with `self` and `within`, only the pairs within the listed nodes (none
+// nested in another). Runs on `num_threads` OpenMP threads (visit's `thread` is below it, so
 // the caller sizes its per-thread buffers by it); `buffers` holds the tasks and the per-thread
 // stacks, which grow once and are then reused.
 template <bool self, typename Visit>
 void visit_overlapping_pairs(const Bvh& first, const Bvh& second, const char* culled,
-                             BvhQueryBuffers& buffers, int num_threads, Visit& visit) {
+                             BvhQueryBuffers& buffers, int num_threads, Visit& visit,
+                             const std::vector<int>* within = nullptr) {
   if (first.nodes().empty() || second.nodes().empty()) return;
 
   // Tasks: split every splittable task per round; unsplittable ones carry over unchanged.
   std::vector<TrianglePair>& tasks = buffers.tasks;
   tasks.clear();
-  tasks.push_back({0, 0});
+  if (self && within != nullptr) {
+    for (const int node : *within) tasks.push_back({node, node});
+    if (tasks.empty()) return;
+  } else {
+    tasks.push_back({0, 0});
+  }
   while (static_cast<int>(tasks.size()) < target_task_count) {
     std::vector<TrianglePair>& next = buffers.next_tasks;
     next.clear();

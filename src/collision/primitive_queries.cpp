@@ -122,40 +122,6 @@ void add_edge_edge(const PrimitiveMesh& first, int e, const PrimitiveMesh& secon
   out.push_back({std::min(edge_a, edge_b), std::max(edge_a, edge_b)});
 }
 
-// Self-collision culling at the level of primitives. A triangle-pair query with culling skips
-// the pairs of two triangles in one culled region; a primitive pair was written from every
-// triangle pair that carries it, so it is skipped when all of them are: every triangle around
-// the vertex (or at either edge) in the face's (the other edge's) region.
-bool vertex_face_culled(const MeshTopology& topology, const std::vector<int>& region, int v, int t) {
-  const int r = region[t];
-  if (r < 0) return false;
-  for (int k = topology.vertex_triangle_start[v]; k < topology.vertex_triangle_start[v + 1]; ++k) {
-    if (region[topology.vertex_triangles[k]] != r) return false;
-  }
-  return true;
-}
-
-// An edge's triangles are its two recorded ones, -1 where absent; a non-manifold edge (three or
-// more) has some the record lacks and is never culled (a culled region is a disk, which holds
-// at most two triangles at an edge, so no triangle-pair query culled all of its pairs either).
-bool edge_in_region(const MeshTopology& topology, const std::vector<int>& region, int e, int r) {
-  for (int k = 0; k < 2; ++k) {
-    const int t = topology.edge_triangles(k, e);
-    if (t >= 0 && region[t] != r) return false;
-  }
-  return true;
-}
-
-bool edge_edge_culled(const MeshTopology& topology, const std::vector<int>& region, int e, int f) {
-  const int r = region[topology.edge_triangles(0, e)];
-  if (r < 0) return false;
-  if (std::binary_search(topology.non_manifold_edges.begin(), topology.non_manifold_edges.end(), e) ||
-      std::binary_search(topology.non_manifold_edges.begin(), topology.non_manifold_edges.end(), f)) {
-    return false;
-  }
-  return edge_in_region(topology, region, e, r) && edge_in_region(topology, region, f, r);
-}
-
 // ---- Full queries over the threads ----------------------------------------------------------
 
 // Per-thread output lists, one a thread of this query, emptied.
@@ -184,10 +150,9 @@ int query_threads() { return std::max(1, omp_get_max_threads()); }
 // Vertices of `vertices` against the triangles of `faces`.
 template <bool self>
 void query_vertex_faces(const PrimitiveMesh& vertices, const PrimitiveMesh& faces,
-                        const SweptVertexBoxes& boxes, const std::vector<int>* culled_regions,
-                        BvhQueryBuffers& buffers, CollisionCandidates& candidates) {
+                        const SweptVertexBoxes& boxes, BvhQueryBuffers& buffers,
+                        CollisionCandidates& candidates) {
   auto visit = [&](int thread, int v, int t) {
-    if (self && culled_regions && vertex_face_culled(vertices.topology, *culled_regions, v, t)) return;
     add_vertex_face<self>(vertices, v, faces, t, boxes, candidates.thread_vertex_faces[thread]);
   };
   bvh_traversal::visit_overlapping_pairs<false>(vertices.vertex_bvh, faces.triangle_bvh, nullptr, buffers,
@@ -211,13 +176,11 @@ Triangles segment_entries(const Eigen::Matrix2Xi& edges, int vertex_offset) {
 }
 
 void append_self_primitive_candidates(const PrimitiveMesh& mesh, const SweptVertexBoxes& boxes,
-                                      const std::vector<int>* culled_regions, BvhQueryBuffers& buffers,
-                                      CollisionCandidates& candidates) {
+                                      BvhQueryBuffers& buffers, CollisionCandidates& candidates) {
   prepare_thread_lists(candidates, query_threads());
-  query_vertex_faces<true>(mesh, mesh, boxes, culled_regions, buffers, candidates);
+  query_vertex_faces<true>(mesh, mesh, boxes, buffers, candidates);
   // Edge pairs within the hierarchy, each once; the order of (e, f) is the leaf order.
   auto visit = [&](int thread, int e, int f) {
-    if (culled_regions && edge_edge_culled(mesh.topology, *culled_regions, e, f)) return;
     add_edge_edge<true>(mesh, e, mesh, f, boxes, candidates.thread_edge_edges[thread]);
   };
   bvh_traversal::visit_overlapping_pairs<true>(mesh.edge_bvh, mesh.edge_bvh, nullptr, buffers,
@@ -229,13 +192,71 @@ void append_primitive_candidates_between(const PrimitiveMesh& first, const Primi
                                          const SweptVertexBoxes& boxes, BvhQueryBuffers& buffers,
                                          CollisionCandidates& candidates) {
   prepare_thread_lists(candidates, query_threads());
-  query_vertex_faces<false>(first, second, boxes, nullptr, buffers, candidates);
-  query_vertex_faces<false>(second, first, boxes, nullptr, buffers, candidates);
+  query_vertex_faces<false>(first, second, boxes, buffers, candidates);
+  query_vertex_faces<false>(second, first, boxes, buffers, candidates);
   auto visit = [&](int thread, int e, int f) {
     add_edge_edge<false>(first, e, second, f, boxes, candidates.thread_edge_edges[thread]);
   };
   bvh_traversal::visit_overlapping_pairs<false>(first.edge_bvh, second.edge_bvh, nullptr, buffers,
                                                 query_threads(), visit);
+  join_thread_lists(candidates);
+}
+
+OwnedPrimitives owned_primitives(const MeshTopology& topology, int num_triangles) {
+  OwnedPrimitives owned;
+  const int num_vertices = static_cast<int>(topology.vertex_triangle_start.size()) - 1;
+  std::vector<int> vertex_owner(num_vertices, -1);
+  for (int v = 0; v < num_vertices; ++v) {
+    if (topology.vertex_triangle_start[v] < topology.vertex_triangle_start[v + 1]) {
+      vertex_owner[v] = topology.vertex_triangles[topology.vertex_triangle_start[v]];
+    }
+  }
+  // Counting sorts by owner, so each triangle's list is ascending.
+  const auto sort_by_owner = [&](const auto& owner_of, int count, std::vector<int>& start,
+                                 std::vector<int>& list) {
+    start.assign(num_triangles + 1, 0);
+    for (int i = 0; i < count; ++i) {
+      if (owner_of(i) >= 0) ++start[owner_of(i) + 1];
+    }
+    for (int t = 0; t < num_triangles; ++t) start[t + 1] += start[t];
+    list.resize(start[num_triangles]);
+    std::vector<int> next(start.begin(), start.end() - 1);
+    for (int i = 0; i < count; ++i) {
+      if (owner_of(i) >= 0) list[next[owner_of(i)]++] = i;
+    }
+  };
+  sort_by_owner([&](int v) { return vertex_owner[v]; }, num_vertices, owned.vertex_start, owned.vertices);
+  sort_by_owner([&](int e) { return topology.edge_triangles(0, e); }, topology.num_edges(), owned.edge_start,
+                owned.edges);
+  return owned;
+}
+
+void append_self_candidates_culled(const PrimitiveMesh& mesh, const OwnedPrimitives& owned,
+                                   const SweptVertexBoxes& boxes, const std::vector<char>& culled,
+                                   const std::vector<int>* within, BvhQueryBuffers& buffers,
+                                   CollisionCandidates& candidates) {
+  prepare_thread_lists(candidates, query_threads());
+  // Triangles s and t, boxes overlapping: s's vertices against t and t's against s, s's edges
+  // against t's. A vertex's box lies in its owner's, so a pair of boxes within the gap lies in a
+  // pair of triangle boxes that overlap: the walk meets every pair the primitive queries meet.
+  auto visit = [&](int thread, int s, int t) {
+    std::vector<VertexFacePair>& vertex_faces = candidates.thread_vertex_faces[thread];
+    for (int k = owned.vertex_start[s]; k < owned.vertex_start[s + 1]; ++k) {
+      add_vertex_face<true>(mesh, owned.vertices[k], mesh, t, boxes, vertex_faces);
+    }
+    for (int k = owned.vertex_start[t]; k < owned.vertex_start[t + 1]; ++k) {
+      add_vertex_face<true>(mesh, owned.vertices[k], mesh, s, boxes, vertex_faces);
+    }
+    for (int i = owned.edge_start[s]; i < owned.edge_start[s + 1]; ++i) {
+      for (int j = owned.edge_start[t]; j < owned.edge_start[t + 1]; ++j) {
+        add_edge_edge<true>(mesh, owned.edges[i], mesh, owned.edges[j], boxes,
+                            candidates.thread_edge_edges[thread]);
+      }
+    }
+  };
+  bvh_traversal::visit_overlapping_pairs<true>(mesh.triangle_bvh, mesh.triangle_bvh,
+                                               culled.empty() ? nullptr : culled.data(), buffers,
+                                               query_threads(), visit, within);
   join_thread_lists(candidates);
 }
 

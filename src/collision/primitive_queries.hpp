@@ -43,13 +43,33 @@ struct PrimitiveMesh {
 };
 
 // Appends the candidates of a mesh against itself (unsorted: sort_candidates() once after all
-// appends). With `culled_regions` (per triangle, culled_regions() of self_culling.hpp), a pair
-// is skipped when every triangle that carries it on each side lies in one culled region: the
-// pairs a triangle-pair query with self-collision culling would not have produced. Runs over
-// the OpenMP threads; the set written does not depend on their number.
+// appends). Runs over the OpenMP threads; the set written does not depend on their number.
 void append_self_primitive_candidates(const PrimitiveMesh& mesh, const SweptVertexBoxes& boxes,
-                                      const std::vector<int>* culled_regions, BvhQueryBuffers& buffers,
-                                      CollisionCandidates& candidates);
+                                      BvhQueryBuffers& buffers, CollisionCandidates& candidates);
+
+// Each vertex and each edge of a mesh given to one triangle that holds it (its first in the
+// topology's lists), so that a walk over triangle pairs meets each primitive pair once, through
+// the owners of its two primitives (the representative triangles of Curtis, Tamstorf and
+// Manocha 2008). A vertex no triangle uses has no owner.
+struct OwnedPrimitives {
+  std::vector<int> vertex_start;  // (n_triangles + 1): triangle t owns vertices[vertex_start[t] ..)
+  std::vector<int> vertices;      // local vertex indices, by owner
+  std::vector<int> edge_start;    // (n_triangles + 1): triangle t owns edges[edge_start[t] ..)
+  std::vector<int> edges;         // local edge indices, by owner
+};
+OwnedPrimitives owned_primitives(const MeshTopology& topology, int num_triangles);
+
+// The self candidates of a mesh with self-collision culling (self_culling.hpp): one walk of its
+// triangle hierarchy, each pair of triangles whose boxes overlap testing the primitives they own
+// against each other with the filter above, and the pairs within a node flagged in `culled`
+// skipped whole, so a culled region costs nothing. So a pair is written exactly when the full
+// query above writes it and no culled node holds both its primitives' owners (a vertex-face
+// pair: the vertex's owner and the face). With `within`, only pairs within those nodes are
+// walked (the regions whose culling stopped holding). Unsorted, as above.
+void append_self_candidates_culled(const PrimitiveMesh& mesh, const OwnedPrimitives& owned,
+                                   const SweptVertexBoxes& boxes, const std::vector<char>& culled,
+                                   const std::vector<int>* within, BvhQueryBuffers& buffers,
+                                   CollisionCandidates& candidates);
 
 // Appends the candidates between two different meshes: first's vertices against second's
 // triangles and the other way round, first's edges against second's. Unsorted, as above.

@@ -85,9 +85,9 @@ class SelfCulling {
 };
 
 // Per triangle of `bvh`: the topmost node flagged in `culled` above it (its culled region), or
-// -1. A self query with these flags skips exactly the pairs of two triangles in one region
-// (the pairs within a culled node), which is how the primitive-level broad phase applies the
-// culling (primitive_queries.hpp). Replaces `region`; allocates only to grow it.
+// -1. A self walk with these flags skips exactly the pairs of two triangles in one region (the
+// pairs within a culled node; append_self_candidates_culled of primitive_queries.hpp). Replaces
+// `region`; allocates only to grow it.
 void culled_regions(const Bvh& bvh, const std::vector<char>& culled, std::vector<int>& region);
 
 }  // namespace weft

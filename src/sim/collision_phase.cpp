@@ -50,6 +50,7 @@ void CollisionPhase::set_meshes(const std::vector<Cloth>& cloths, const std::vec
       slot.moves = !collider.motion.is_static();
     }
     slot.topology = build_topology(slot.local_triangles, slot.num_vertices);
+    slot.owned = owned_primitives(slot.topology, static_cast<int>(slot.local_triangles.cols()));
     slot.offsets = offsets;
     slot.global_triangles = slot.local_triangles.array() + offsets.vertex;
     slot.vertex_entries = point_entries(offsets.vertex, slot.num_vertices);
@@ -187,12 +188,12 @@ void CollisionPhase::query_candidates(CollisionCandidates& candidates) {
     MeshSlot& cloth = meshes_[c];
     if (materials_[c].self_collision) {
       cloth.culling.update(cloth.bvh, x_start_, x_end_, max_thickness_, settings.self_culling);
-      const std::vector<int>* regions = nullptr;
       if (settings.self_culling.enabled) {
-        culled_regions(cloth.bvh, cloth.culling.culled(), culled_regions_);
-        regions = &culled_regions_;
+        append_self_candidates_culled(primitive_mesh(cloth), cloth.owned, boxes, cloth.culling.culled(),
+                                      nullptr, buffers_, candidates);
+      } else {
+        append_self_primitive_candidates(primitive_mesh(cloth), boxes, buffers_, candidates);
       }
-      append_self_primitive_candidates(primitive_mesh(cloth), boxes, regions, buffers_, candidates);
     }
     for (size_t other = c + 1; other < meshes_.size(); ++other) {
       append_primitive_candidates_between(primitive_mesh(cloth), primitive_mesh(meshes_[other]), boxes,
@@ -518,35 +519,32 @@ bool CollisionPhase::verify_motion() {
     }
   }
   // Self-collision culling was decided on the uncorrected motion; a region it skipped must
-  // still pass its tests (normal cone, unfolded contour) on the corrected one, else query anew.
+  // still pass its tests (normal cone, unfolded contour) on the corrected one, else the pairs
+  // within it are walked now (query_broken_regions).
   bool culling_holds = true;
-  for (int c = 0; c < num_cloths_ && culling_holds; ++c) {
+  for (int c = 0; c < num_cloths_; ++c) {
     MeshSlot& slot = meshes_[c];
+    slot.broken_regions.clear();
     if (!materials_[c].self_collision || !settings.self_culling.enabled) continue;
     culled_before_ = slot.culling.culled();
     slot.culling.update(slot.bvh, x_start_, x_end_, max_thickness_, settings.self_culling);
     const std::vector<char>& culled_now = slot.culling.culled();
-    for (size_t k = 0; k < culled_before_.size() && culling_holds; ++k) {
-      culling_holds = !culled_before_[k] || culled_now[k];
+    for (size_t k = 0; k < culled_before_.size(); ++k) {
+      if (culled_before_[k] && !culled_now[k]) slot.broken_regions.push_back(static_cast<int>(k));
     }
+    culling_holds = culling_holds && slot.broken_regions.empty();
   }
   if (escaped_vertices_.empty() && culling_holds) {
     stats_.broad_ms += milliseconds_since(start);
     return false;
   }
-  const bool test_all = !culling_holds || !stats_.clean;
-  if (!culling_holds) {
-    refit_bounding_volumes();
-    query_candidates(verify_candidates_);
-    std::swap(candidates_, verify_candidates_);
-  } else {
-    query_escaped_candidates(verify_candidates_);
-    merge_new_candidates(candidates_, verify_candidates_);
-  }
+  query_escaped_candidates(verify_candidates_);
+  if (!culling_holds) query_broken_regions(verify_candidates_);
+  merge_new_candidates(candidates_, verify_candidates_);
   stats_.broad_ms += milliseconds_since(start);
 
   start = Clock::now();
-  const CollisionCandidates& tested = test_all ? candidates_ : verify_candidates_;
+  const CollisionCandidates& tested = stats_.clean ? verify_candidates_ : candidates_;
   CollisionStep step = make_step();
   detect_collisions(step, tested.vertex_face, tested.edge_edge, ccd_settings(), collisions_);
   stats_.narrow_ms += milliseconds_since(start);
@@ -554,6 +552,30 @@ bool CollisionPhase::verify_motion() {
   // run out first, the step is reported unclean instead of silently keeping them.
   if (!collisions_.empty()) stats_.clean = false;
   return !collisions_.empty();
+}
+
+// verify_motion's update for culling that stopped holding: the self pairs within each region
+// culled when the candidates were found and not culled on the corrected motion, walked with the
+// boxes (query_escaped_candidates grew them first) and the culling of the corrected motion, which
+// may cull smaller regions inside. Merged into `candidates` (sorted); pairs nothing can move
+// join immovable_candidates_.
+void CollisionPhase::query_broken_regions(CollisionCandidates& candidates) {
+  const SweptVertexBoxes boxes{vertex_lower_, vertex_upper_, max_thickness_};
+  region_candidates_.clear();
+  for (int c = 0; c < num_cloths_; ++c) {
+    const MeshSlot& slot = meshes_[c];
+    if (slot.broken_regions.empty()) continue;
+    append_self_candidates_culled(primitive_mesh(slot), slot.owned, boxes, slot.culling.culled(),
+                                  &slot.broken_regions, buffers_, region_candidates_);
+  }
+  sort_candidates(region_candidates_);
+  drop_immovable_pairs(region_candidates_, &region_immovable_);
+  for (const VertexFacePair& pair : region_immovable_.vertex_face)
+    immovable_candidates_.vertex_face.push_back(pair);
+  for (const EdgeEdgePair& pair : region_immovable_.edge_edge)
+    immovable_candidates_.edge_edge.push_back(pair);
+  sort_candidates(immovable_candidates_);
+  merge_new_candidates(candidates, region_candidates_);
 }
 
 // verify_motion's update: grows the boxes of escaped_vertices_ to hold their motion, refits the

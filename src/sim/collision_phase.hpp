@@ -171,6 +171,8 @@ class CollisionPhase {
     Bvh vertex_bvh;       // over the vertices
     Bvh edge_bvh;         // over the edges
     SelfCulling culling;  // cloths with self-collision: regions that cannot touch themselves
+    OwnedPrimitives owned;            // the culled self walk's owner of each vertex and edge
+    std::vector<int> broken_regions;  // verify_motion: nodes culled before and not now
     bool built = false;
     bool moves = true;           // cloths, kinematic colliders
     double thickness = 0.0;      // cloths; 0 for colliders
@@ -182,6 +184,7 @@ class CollisionPhase {
   PrimitiveMesh primitive_mesh(const MeshSlot& slot) const;
   void query_candidates(CollisionCandidates& candidates);
   void query_escaped_candidates(CollisionCandidates& candidates);
+  void query_broken_regions(CollisionCandidates& candidates);
   // Moves pairs whose four vertices all have infinite mass (nothing can move them) out of
   // `candidates`, into `immovable` when given (check_immovable_pairs tests them).
   void drop_immovable_pairs(CollisionCandidates& candidates, CollisionCandidates* immovable) const;
@@ -223,13 +226,13 @@ class CollisionPhase {
   std::vector<TrianglePair> pairs_;
   CollisionCandidates candidates_;
   CollisionCandidates verify_candidates_;
+  CollisionCandidates region_candidates_, region_immovable_;  // query_broken_regions' lists
   CollisionCandidates immovable_candidates_;  // the pairs drop_immovable_pairs took out of query_candidates's
   std::vector<char> culled_before_;  // verify_motion: the culling the candidates were found with
   std::vector<int> escaped_vertices_;   // verify_motion: vertices whose corrected motion left their box
   std::vector<char> escaped_flags_;     // per vertex
   MovedPrimitives escaped_primitives_;  // of one cloth, touching escaped vertices
   std::vector<int> box_triangles_;      // find_pairs_of's scratch
-  std::vector<int> culled_regions_;     // per triangle of one cloth, with self-collision culling
   GroupedPairs<VertexFacePair> near_vertex_faces_;  // the last proximity phase's pairs by material group
   GroupedPairs<EdgeEdgePair> near_edge_edges_;
   std::vector<char> near_vertex_face_;

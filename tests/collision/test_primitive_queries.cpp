@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <random>
 #include <set>
 #include <utility>
@@ -72,10 +71,10 @@ struct QueryWorld {
   }
   SweptVertexBoxes boxes() const { return SweptVertexBoxes{lower, upper, gap}; }
   // Mesh 0 against itself and against every other mesh, as the collision phase queries a cloth.
-  CollisionCandidates query(const std::vector<int>* culled_regions = nullptr) const {
+  CollisionCandidates query() const {
     BvhQueryBuffers buffers;
     CollisionCandidates candidates;
-    append_self_primitive_candidates(meshes[0].view(), boxes(), culled_regions, buffers, candidates);
+    append_self_primitive_candidates(meshes[0].view(), boxes(), buffers, candidates);
     for (size_t m = 1; m < meshes.size(); ++m) {
       append_primitive_candidates_between(meshes[0].view(), meshes[m].view(), boxes(), buffers, candidates);
     }
@@ -293,62 +292,107 @@ TEST(PrimitiveQueries, TheSameListsOnAnyThreadCount) {
   }
 }
 
-// The triangle pairs a culled self query reports (find_self_pairs with the flags), opened into
-// primitive pairs and filtered by the reference: what the collision phase wrote with culling on
-// before its broad phase queried primitives.
-Reference opened_culled_pairs(const QueryWorld& world, const std::vector<char>& culled) {
-  const QueryMesh& mesh = world.meshes[0];
+// Mesh 0 against itself: the full query, or the walk of its triangle hierarchy with `culled`
+// flags (and, with `within`, only inside those nodes).
+CollisionCandidates self_query(const QueryWorld& world) {
   BvhQueryBuffers buffers;
-  std::vector<TrianglePair> pairs;
-  find_self_pairs(mesh.triangle_bvh, buffers, pairs, SharedVertexPairs::keep, &culled);
-  const Reference all = brute_force(world, true);
-  std::map<std::pair<int, int>, int> edge_of;
-  for (int e = 0; e < mesh.topology.num_edges(); ++e)
-    edge_of[{mesh.topology.edges(0, e), mesh.topology.edges(1, e)}] = e;
-  Reference opened;
-  for (const TrianglePair& pair : pairs) {
-    for (const auto& [s, t] : {std::make_pair(pair.a, pair.b), std::make_pair(pair.b, pair.a)}) {
-      for (int k = 0; k < 3; ++k) {
-        const std::pair<int, int> vf{mesh.triangles(k, s), t};
-        if (all.vertex_face.count(vf)) opened.vertex_face.insert(vf);
-      }
-    }
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) {
-        const int s0 = mesh.triangles(i, pair.a), s1 = mesh.triangles((i + 1) % 3, pair.a);
-        const int t0 = mesh.triangles(j, pair.b), t1 = mesh.triangles((j + 1) % 3, pair.b);
-        const int e = edge_of.at({std::min(s0, s1), std::max(s0, s1)});
-        const int f = edge_of.at({std::min(t0, t1), std::max(t0, t1)});
-        const std::pair<int, int> ee{std::min(e, f), std::max(e, f)};
-        if (all.edge_edge.count(ee)) opened.edge_edge.insert(ee);
-      }
-    }
-  }
-  return opened;
+  CollisionCandidates candidates;
+  append_self_primitive_candidates(world.meshes[0].view(), world.boxes(), buffers, candidates);
+  sort_candidates(candidates);
+  return candidates;
 }
 
-TEST(PrimitiveQueries, CulledRegionsSkipWhatACulledTrianglePairQuerySkips) {
+CollisionCandidates culled_walk(const QueryWorld& world, const std::vector<char>& culled,
+                                const std::vector<int>* within = nullptr) {
+  const QueryMesh& mesh = world.meshes[0];
+  const OwnedPrimitives owned = owned_primitives(mesh.topology, static_cast<int>(mesh.triangles.cols()));
+  BvhQueryBuffers buffers;
+  CollisionCandidates candidates;
+  append_self_candidates_culled(mesh.view(), owned, world.boxes(), culled, within, buffers, candidates);
+  sort_candidates(candidates);
+  return candidates;
+}
+
+TEST(PrimitiveQueries, OwnedPrimitivesGiveEachVertexAndEdgeOneTriangleThatHoldsIt) {
+  const TriangleMesh grid = make_grid(5, 4, 1.0, 1.0, GridTriangulation::alternating);
+  Triangles triangles = grid.triangles;
+  const int unused = grid.num_vertices();  // a vertex no triangle uses has no owner
+  const MeshTopology topology = build_topology(triangles, unused + 1);
+  const OwnedPrimitives owned = owned_primitives(topology, static_cast<int>(triangles.cols()));
+  std::vector<int> vertex_owners(unused + 1, 0), edge_owners(topology.num_edges(), 0);
+  for (int t = 0; t < triangles.cols(); ++t) {
+    for (int k = owned.vertex_start[t]; k < owned.vertex_start[t + 1]; ++k) {
+      const int v = owned.vertices[k];
+      ++vertex_owners[v];
+      EXPECT_TRUE(triangles(0, t) == v || triangles(1, t) == v || triangles(2, t) == v);
+    }
+    for (int k = owned.edge_start[t]; k < owned.edge_start[t + 1]; ++k) {
+      const int e = owned.edges[k];
+      ++edge_owners[e];
+      EXPECT_TRUE(topology.edge_triangles(0, e) == t || topology.edge_triangles(1, e) == t);
+    }
+  }
+  for (int v = 0; v < unused; ++v) EXPECT_EQ(vertex_owners[v], 1) << "vertex " << v;
+  EXPECT_EQ(vertex_owners[unused], 0);
+  for (int e = 0; e < topology.num_edges(); ++e) EXPECT_EQ(edge_owners[e], 1) << "edge " << e;
+}
+
+// The walk over triangle pairs writes the full query's pairs exactly, less those whose owners lie
+// in one culled region; walking only inside the culled regions writes exactly those.
+TEST(PrimitiveQueries, TheCulledWalkSkipsExactlyThePairsWithinCulledNodes) {
   for (const unsigned seed : {5u, 6u, 7u}) {
     QueryWorld world;
     add_swept_grid(world, 16, seed, Vec3::Zero(), GridTriangulation::alternating);
     world.gap = 0.05;
     world.build();
-    const Bvh& bvh = world.meshes[0].triangle_bvh;
-    // Random flags, a few near the root too: the mapping must hold for any set of culled nodes.
+    const QueryMesh& mesh = world.meshes[0];
+    const Bvh& bvh = mesh.triangle_bvh;
+    const CollisionCandidates full = self_query(world);
+    ASSERT_GT(full.vertex_face.size() + full.edge_edge.size(), 100u);
+    const CollisionCandidates unculled = culled_walk(world, std::vector<char>(bvh.nodes().size(), 0));
+    EXPECT_TRUE(unculled.vertex_face == full.vertex_face) << seed;
+    EXPECT_TRUE(unculled.edge_edge == full.edge_edge) << seed;
+
+    // Random flags, a few near the root too: the walk must hold for any set of culled nodes.
     std::mt19937 rng(seed);
     std::vector<char> culled(bvh.nodes().size(), 0);
     for (size_t n = 1; n < culled.size(); ++n) culled[n] = std::uniform_int_distribution<int>(0, 9)(rng) == 0;
-    std::vector<int> regions;
-    culled_regions(bvh, culled, regions);
-    ASSERT_GT(std::count_if(regions.begin(), regions.end(), [](int r) { return r >= 0; }), 20);
-    const CollisionCandidates candidates = world.query(&regions);
-    const Reference expected = opened_culled_pairs(world, culled);
-    const Reference all = brute_force(world, true);
-    EXPECT_EQ(listed(candidates.vertex_face), listed(expected.vertex_face)) << seed;
-    EXPECT_EQ(listed(candidates.edge_edge), listed(expected.edge_edge)) << seed;
-    EXPECT_LT(expected.vertex_face.size() + expected.edge_edge.size(),
-              all.vertex_face.size() + all.edge_edge.size())
-        << "culling dropped some pairs";
+    std::vector<int> region;
+    culled_regions(bvh, culled, region);
+    const OwnedPrimitives owned = owned_primitives(mesh.topology, static_cast<int>(mesh.triangles.cols()));
+    std::vector<int> vertex_owner(mesh.num_vertices, -1), edge_owner(mesh.topology.num_edges(), -1);
+    for (int t = 0; t < mesh.triangles.cols(); ++t) {
+      for (int k = owned.vertex_start[t]; k < owned.vertex_start[t + 1]; ++k)
+        vertex_owner[owned.vertices[k]] = t;
+      for (int k = owned.edge_start[t]; k < owned.edge_start[t + 1]; ++k) edge_owner[owned.edges[k]] = t;
+    }
+    const auto same_region = [&](int s, int t) { return region[s] >= 0 && region[s] == region[t]; };
+    CollisionCandidates kept, skipped;
+    for (const VertexFacePair& pair : full.vertex_face) {
+      (same_region(vertex_owner[pair.vertex], pair.triangle) ? skipped : kept).vertex_face.push_back(pair);
+    }
+    for (const EdgeEdgePair& pair : full.edge_edge) {
+      (same_region(edge_owner[pair.edge_a], edge_owner[pair.edge_b]) ? skipped : kept)
+          .edge_edge.push_back(pair);
+    }
+    ASSERT_GT(skipped.vertex_face.size() + skipped.edge_edge.size(), 10u) << "culling dropped some pairs";
+    const CollisionCandidates walked = culled_walk(world, culled);
+    EXPECT_TRUE(walked.vertex_face == kept.vertex_face) << seed;
+    EXPECT_TRUE(walked.edge_edge == kept.edge_edge) << seed;
+
+    // The regions' roots: the topmost culled nodes.
+    std::vector<int> roots;
+    for (int n = 0; n < static_cast<int>(culled.size());) {
+      if (culled[n]) {
+        roots.push_back(n);
+        n = bvh.nodes()[n].next;
+      } else {
+        ++n;
+      }
+    }
+    const CollisionCandidates inside = culled_walk(world, std::vector<char>(culled.size(), 0), &roots);
+    EXPECT_TRUE(inside.vertex_face == skipped.vertex_face) << seed;
+    EXPECT_TRUE(inside.edge_edge == skipped.edge_edge) << seed;
   }
 }
 
