@@ -570,10 +570,12 @@ void CollisionPhase::query_broken_regions(CollisionCandidates& candidates) {
   }
   sort_candidates(region_candidates_);
   drop_immovable_pairs(region_candidates_, &region_immovable_);
-  for (const VertexFacePair& pair : region_immovable_.vertex_face)
-    immovable_candidates_.vertex_face.push_back(pair);
-  for (const EdgeEdgePair& pair : region_immovable_.edge_edge)
-    immovable_candidates_.edge_edge.push_back(pair);
+  immovable_candidates_.vertex_face.insert(immovable_candidates_.vertex_face.end(),
+                                           region_immovable_.vertex_face.begin(),
+                                           region_immovable_.vertex_face.end());
+  immovable_candidates_.edge_edge.insert(immovable_candidates_.edge_edge.end(),
+                                         region_immovable_.edge_edge.begin(),
+                                         region_immovable_.edge_edge.end());
   sort_candidates(immovable_candidates_);
   merge_new_candidates(candidates, region_candidates_);
 }

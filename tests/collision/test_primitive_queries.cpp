@@ -292,16 +292,8 @@ TEST(PrimitiveQueries, TheSameListsOnAnyThreadCount) {
   }
 }
 
-// Mesh 0 against itself: the full query, or the walk of its triangle hierarchy with `culled`
-// flags (and, with `within`, only inside those nodes).
-CollisionCandidates self_query(const QueryWorld& world) {
-  BvhQueryBuffers buffers;
-  CollisionCandidates candidates;
-  append_self_primitive_candidates(world.meshes[0].view(), world.boxes(), buffers, candidates);
-  sort_candidates(candidates);
-  return candidates;
-}
-
+// Mesh 0's walk of its triangle hierarchy with `culled` flags (and, with `within`, only inside
+// those nodes).
 CollisionCandidates culled_walk(const QueryWorld& world, const std::vector<char>& culled,
                                 const std::vector<int>* within = nullptr) {
   const QueryMesh& mesh = world.meshes[0];
@@ -315,7 +307,7 @@ CollisionCandidates culled_walk(const QueryWorld& world, const std::vector<char>
 
 TEST(PrimitiveQueries, OwnedPrimitivesGiveEachVertexAndEdgeOneTriangleThatHoldsIt) {
   const TriangleMesh grid = make_grid(5, 4, 1.0, 1.0, GridTriangulation::alternating);
-  Triangles triangles = grid.triangles;
+  const Triangles& triangles = grid.triangles;
   const int unused = grid.num_vertices();  // a vertex no triangle uses has no owner
   const MeshTopology topology = build_topology(triangles, unused + 1);
   const OwnedPrimitives owned = owned_primitives(topology, static_cast<int>(triangles.cols()));
@@ -347,7 +339,7 @@ TEST(PrimitiveQueries, TheCulledWalkSkipsExactlyThePairsWithinCulledNodes) {
     world.build();
     const QueryMesh& mesh = world.meshes[0];
     const Bvh& bvh = mesh.triangle_bvh;
-    const CollisionCandidates full = self_query(world);
+    const CollisionCandidates full = world.query();  // one mesh: its self pairs
     ASSERT_GT(full.vertex_face.size() + full.edge_edge.size(), 100u);
     const CollisionCandidates unculled = culled_walk(world, std::vector<char>(bvh.nodes().size(), 0));
     EXPECT_TRUE(unculled.vertex_face == full.vertex_face) << seed;
