@@ -30,4 +30,21 @@ double chunked_sum(int n, std::array<double, Chunks>& partials, const Partial& p
   return sum;
 }
 
+// Two sums in one pass: partial(begin, end) returns a chunk's two partial sums; each total is
+// added in chunk order, as chunked_sum adds one.
+template <std::size_t Chunks, class Partial>
+std::array<double, 2> chunked_sums(int n, std::array<std::array<double, 2>, Chunks>& partials,
+                                   const Partial& partial) {
+  const int chunks = static_cast<int>(Chunks);
+#pragma omp parallel for schedule(static)
+  for (int c = 0; c < chunks; ++c)
+    partials[c] = partial(chunk_begin(c, n, chunks), chunk_begin(c + 1, n, chunks));
+  std::array<double, 2> sums{0.0, 0.0};
+  for (const std::array<double, 2>& values : partials) {
+    sums[0] += values[0];
+    sums[1] += values[1];
+  }
+  return sums;
+}
+
 }  // namespace weft

@@ -34,6 +34,18 @@ double ConjugateGradientSolver::step_along_direction(double alpha, Eigen::Vector
   });
 }
 
+std::array<double, 2> ConjugateGradientSolver::step_and_precondition(double alpha) {
+  const int n = static_cast<int>(p_.size() / 3);
+  return chunked_sums(n, pair_partials_, [&](int begin, int end) {
+    const Eigen::Index first = 3 * begin, count = 3 * (end - begin);
+    y_.segment(first, count) += alpha * p_.segment(first, count);
+    r_.segment(first, count) -= alpha * q_.segment(first, count);
+    gauss_seidel_->multiply_diagonal(begin, end, r_, z_);
+    return std::array<double, 2>{r_.segment(first, count).squaredNorm(),
+                                 r_.segment(first, count).dot(z_.segment(first, count))};
+  });
+}
+
 void ConjugateGradientSolver::next_direction(double beta) {
   const int n = static_cast<int>(p_.size() / 3);
   for_each_chunk(n, num_chunks, [&](int begin, int end) {
@@ -158,12 +170,19 @@ void ConjugateGradientSolver::solve_gauss_seidel(Eigen::VectorXd& dx, double thr
   p_ = z_;
   double residual = start_norm;
   bool checked = true;  // `residual` is (D + L) r^'s norm for the current r^
+  // Each iteration: the product (the new direction formed inside its first solve), the
+  // curvature, then one pass for y, r, z = D r, |r|^2 and r . z.
+  double beta = 0.0;
   while (report.iterations < max_iterations) {
-    gauss_seidel_->multiply_transformed(p_, t_, q_);  // q = C p
+    if (report.iterations == 0) {
+      gauss_seidel_->multiply_transformed(p_, t_, q_);  // q = C p
+    } else {
+      gauss_seidel_->multiply_next_direction(z_, beta, p_, t_, q_);  // p = z + beta p, q = C p
+    }
     const double curvature = dot(p_, q_);
     if (!(curvature > 0.0)) break;  // not positive definite along p (or NaN): stop with what we have
     const double alpha = rz / curvature;
-    const double r_squared = step_along_direction(alpha, y_);
+    const auto [r_squared, rz_next] = step_and_precondition(alpha);
     ++report.iterations;
     checked = false;
     if (std::sqrt(r_squared) <= estimate_threshold) {
@@ -172,10 +191,7 @@ void ConjugateGradientSolver::solve_gauss_seidel(Eigen::VectorXd& dx, double thr
       if (residual <= threshold) break;
       estimate_threshold *= 0.5 * threshold / residual;
     }
-    gauss_seidel_->multiply_diagonal(r_, z_);
-    const double rz_next = dot(r_, z_);
-    const double beta = rz_next / rz;
-    next_direction(beta);
+    beta = rz_next / rz;
     rz = rz_next;
   }
   if (!checked) residual = std::sqrt(gauss_seidel_->lower_product_squared_norm(r_));

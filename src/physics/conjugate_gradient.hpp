@@ -56,6 +56,9 @@ class ConjugateGradientSolver {
   double step_along_direction(double alpha, Eigen::VectorXd& x);
   // p = z + beta p.
   void next_direction(double beta);
+  // Symmetric Gauss-Seidel: y += alpha p, r -= alpha q and z = D r in one pass; returns |r|^2 and
+  // r . z (each summed as dot() sums it).
+  std::array<double, 2> step_and_precondition(double alpha);
   // CG for the correction to dx (r_ = b - H dx on entry) on Eisenstat's transformed system.
   void solve_gauss_seidel(Eigen::VectorXd& dx, double threshold, int max_iterations,
                           ConjugateGradientReport& report);
@@ -71,6 +74,7 @@ class ConjugateGradientSolver {
   // reduction sums its chunks' partial sums in chunk order.
   static constexpr int num_chunks = 64;
   std::array<double, num_chunks> partials_{};
+  std::array<std::array<double, 2>, num_chunks> pair_partials_{};
   Eigen::VectorXd r_, z_, p_, q_;
   Eigen::VectorXd t_, y_;  // symmetric Gauss-Seidel only
 };

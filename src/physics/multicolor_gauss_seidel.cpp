@@ -128,47 +128,92 @@ std::vector<int> MulticolorGaussSeidel::colors() const {
   return color;
 }
 
-// out_a = D_a^-1 (rhs_a - sum over the row's lower (upper) blocks H_ab out_b), colour by colour
-// in order (in reverse), the rows of a colour shared among the threads; then finish(k, a, out_a).
-// `out` must not be `rhs`.
-template <bool lower, class Finish>
-void MulticolorGaussSeidel::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out,
-                                  const Finish& finish) const {
+// Colour c's rows of a solve: out_a = D_a^-1 (rhs(k, a) - sum over the row's lower (upper)
+// blocks H_ab out_b), the rows shared among the threads of the enclosing parallel region (a
+// barrier at the end); then finish(k, a, out_a). `out` must not be what rhs reads.
+template <bool lower, class Rhs, class Finish>
+void MulticolorGaussSeidel::solve_color(int c, const Rhs& rhs, Eigen::VectorXd& out,
+                                        const Finish& finish) const {
   const std::vector<int>& block_starts = lower ? lower_starts_ : upper_starts_;
   const int* columns = lower ? lower_columns_.data() : upper_columns_.data();
   const double* values = lower ? lower_values_.data() : upper_values_.data();
-  double* solved = out.data();
-  const int colors = num_colors();
-#pragma omp parallel
-  for (int step = 0; step < colors; ++step) {
-    const int c = lower ? step : colors - 1 - step;
+  const double* solved = out.data();
 #pragma omp for schedule(static)
-    for (int k = color_starts_[c]; k < color_starts_[c + 1]; ++k) {
-      const int a = order_[k];
-      const Vec3 sum = block_row_sum(values + 9 * block_starts[k], columns + block_starts[k],
-                                     block_starts[k + 1] - block_starts[k], solved);
-      const Vec3 value = inverse_diagonal_[k] * (rhs.segment<3>(3 * a) - sum);
-      out.segment<3>(3 * a) = value;
-      finish(k, a, value);
-    }
+  for (int k = color_starts_[c]; k < color_starts_[c + 1]; ++k) {
+    const int a = order_[k];
+    const Vec3 sum = block_row_sum(values + 9 * block_starts[k], columns + block_starts[k],
+                                   block_starts[k + 1] - block_starts[k], solved);
+    const Vec3 value = inverse_diagonal_[k] * (rhs(k, a) - sum);
+    out.segment<3>(3 * a) = value;
+    finish(k, a, value);
   }
 }
 
+// The whole solve, colour by colour in order (lower) or in reverse (upper).
+template <bool lower, class Rhs, class Finish>
+void MulticolorGaussSeidel::solve(const Rhs& rhs, Eigen::VectorXd& out, const Finish& finish) const {
+  const int colors = num_colors();
+#pragma omp parallel
+  for (int step = 0; step < colors; ++step)
+    solve_color<lower>(lower ? step : colors - 1 - step, rhs, out, finish);
+}
+
+namespace {
+
+// rhs(k, a) of a solve that reads v_a.
+auto entries_of(const Eigen::VectorXd& v) {
+  return [&v](int, int a) -> Vec3 { return v.segment<3>(3 * a); };
+}
+
+}  // namespace
+
 void MulticolorGaussSeidel::solve_lower(const Eigen::VectorXd& w, Eigen::VectorXd& u) const {
-  solve<true>(w, u, [](int, int, const Vec3&) {});
+  solve<true>(entries_of(w), u, [](int, int, const Vec3&) {});
 }
 
 void MulticolorGaussSeidel::solve_upper(const Eigen::VectorXd& v, Eigen::VectorXd& t) const {
-  solve<false>(v, t, [](int, int, const Vec3&) {});
+  solve<false>(entries_of(v), t, [](int, int, const Vec3&) {});
+}
+
+// Eisenstat's product: t = (D + U)^-1 p (each row's p - D t kept), then q = t + (D + L)^-1 of
+// those, both solves in one parallel region. Colour 0 has no lower blocks, so its rows of the
+// second solve are finished where the first solve ends on them: one barrier fewer.
+template <class Direction>
+void MulticolorGaussSeidel::multiply_transformed(const Direction& direction, const Eigen::VectorXd& p,
+                                                 Eigen::VectorXd& t, Eigen::VectorXd& q) {
+  const int colors = num_colors();
+  const auto finish_lower = [&](int, int a, const Vec3& u_a) {
+    q.segment<3>(3 * a) = u_a + t.segment<3>(3 * a);
+  };
+  const auto finish_upper = [&](int k, int a, const Vec3& t_a) {
+    const Vec3 remainder = p.segment<3>(3 * a) - diagonal_[k] * t_a;
+    remainder_.segment<3>(3 * a) = remainder;
+    if (k < color_starts_[1]) {  // colour 0: (D + L)^-1's row is D_a^-1 alone
+      const Vec3 u_a = inverse_diagonal_[k] * remainder;
+      solved_.segment<3>(3 * a) = u_a;
+      finish_lower(k, a, u_a);
+    }
+  };
+#pragma omp parallel
+  {
+    for (int c = colors - 1; c >= 0; --c) solve_color<false>(c, direction, t, finish_upper);
+    for (int c = 1; c < colors; ++c) solve_color<true>(c, entries_of(remainder_), solved_, finish_lower);
+  }
 }
 
 void MulticolorGaussSeidel::multiply_transformed(const Eigen::VectorXd& p, Eigen::VectorXd& t,
                                                  Eigen::VectorXd& q) {
-  solve<false>(p, t, [&](int k, int a, const Vec3& t_a) {
-    remainder_.segment<3>(3 * a) = p.segment<3>(3 * a) - diagonal_[k] * t_a;
-  });
-  solve<true>(remainder_, solved_,
-              [&](int, int a, const Vec3& u_a) { q.segment<3>(3 * a) = u_a + t.segment<3>(3 * a); });
+  multiply_transformed(entries_of(p), p, t, q);
+}
+
+void MulticolorGaussSeidel::multiply_next_direction(const Eigen::VectorXd& z, double beta, Eigen::VectorXd& p,
+                                                    Eigen::VectorXd& t, Eigen::VectorXd& q) {
+  // Row a's entries of p are read by row a alone in the first solve, so each is updated there.
+  const auto next = [&](int, int a) -> Vec3 {
+    p.segment<3>(3 * a) = z.segment<3>(3 * a) + beta * p.segment<3>(3 * a);
+    return p.segment<3>(3 * a);
+  };
+  multiply_transformed(next, p, t, q);
 }
 
 double MulticolorGaussSeidel::lower_product_squared_norm(const Eigen::VectorXd& x) {
@@ -193,6 +238,11 @@ void MulticolorGaussSeidel::multiply_diagonal(const Eigen::VectorXd& x, Eigen::V
     const int a = order_[k];
     y.segment<3>(3 * a) = diagonal_[k] * x.segment<3>(3 * a);
   }
+}
+
+void MulticolorGaussSeidel::multiply_diagonal(int begin, int end, const Eigen::VectorXd& x,
+                                              Eigen::VectorXd& y) const {
+  for (int a = begin; a < end; ++a) y.segment<3>(3 * a) = diagonal_[positions_[a]] * x.segment<3>(3 * a);
 }
 
 }  // namespace weft

@@ -39,8 +39,14 @@ class MulticolorGaussSeidel {
   // q = C p with C = (D + L)^-1 H (D + U)^-1, as Eisenstat's trick forms it: t = (D + U)^-1 p,
   // then q = t + (D + L)^-1 (p - D t). Also leaves t in `t` (sized by the caller, as q).
   void multiply_transformed(const Eigen::VectorXd& p, Eigen::VectorXd& t, Eigen::VectorXd& q);
+  // CG's next direction and its product in one: p = z + beta p, row by row as the first solve
+  // reaches it (no pass of its own), then q = C p and t as above.
+  void multiply_next_direction(const Eigen::VectorXd& z, double beta, Eigen::VectorXd& p, Eigen::VectorXd& t,
+                               Eigen::VectorXd& q);
   // y = D x.
   void multiply_diagonal(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  // y_a = D_a x_a for the vertices a in [begin, end) (a piece of another pass over the vertices).
+  void multiply_diagonal(int begin, int end, const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
   // |(D + L) x|^2, summed over a fixed number of chunks in order.
   double lower_product_squared_norm(const Eigen::VectorXd& x);
 
@@ -52,10 +58,17 @@ class MulticolorGaussSeidel {
 
  private:
   void analyse_pattern(const SparseHessian& hessian);
-  // out_a = D_a^-1 (rhs_a - sum of the row's lower (upper) blocks times out), then finish(k, a, out_a) (k the
-  // position of a).
-  template <bool lower, class Finish>
-  void solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out, const Finish& finish) const;
+  // The product with the first solve's right-hand side given row by row (direction(k, a) = p_a).
+  template <class Direction>
+  void multiply_transformed(const Direction& direction, const Eigen::VectorXd& p, Eigen::VectorXd& t,
+                            Eigen::VectorXd& q);
+  // out_a = D_a^-1 (rhs(k, a) - sum of the row's lower (upper) blocks times out), then
+  // finish(k, a, out_a) (k the position of a); rhs is called once a row, by the thread solving it.
+  template <bool lower, class Rhs, class Finish>
+  void solve(const Rhs& rhs, Eigen::VectorXd& out, const Finish& finish) const;
+  // Colour c's rows of such a solve, inside the caller's parallel region.
+  template <bool lower, class Rhs, class Finish>
+  void solve_color(int c, const Rhs& rhs, Eigen::VectorXd& out, const Finish& finish) const;
 
   std::uint64_t pattern_id_ = 0;
   std::vector<int> order_;                        // vertices by colour, ascending within one (n)

@@ -134,6 +134,22 @@ TEST(MulticolorGaussSeidel, SolvesAndEisenstatProductMatchDenseAlgebraOnAnyThrea
     gauss_seidel.multiply_transformed(p, transformed_t, q);
     gauss_seidel.multiply_diagonal(w, d);
     const double lower_norm = gauss_seidel.lower_product_squared_norm(w);
+    // CG's next direction formed inside the product: p' = z + beta p, then C p', exactly as apart.
+    const double beta = 0.37;
+    Eigen::VectorXd direction = w, next_t(size), next_q(size);
+    gauss_seidel.multiply_next_direction(p, beta, direction, next_t, next_q);
+    const Eigen::VectorXd formed = p + beta * w;
+    Eigen::VectorXd apart_t(size), apart_q(size);
+    gauss_seidel.multiply_transformed(formed, apart_t, apart_q);
+    EXPECT_EQ(direction, formed);
+    EXPECT_EQ(next_t, apart_t);
+    EXPECT_EQ(next_q, apart_q);
+    // The diagonal product over a range of vertices, as CG's fused pass takes it.
+    Eigen::VectorXd pieces = Eigen::VectorXd::Zero(size);
+    const int vertices = static_cast<int>(size / 3);
+    gauss_seidel.multiply_diagonal(0, vertices / 3, w, pieces);
+    gauss_seidel.multiply_diagonal(vertices / 3, vertices, w, pieces);
+    EXPECT_EQ(pieces, d);
     EXPECT_LE((lower * u - w).norm(), 1e-12 * w.norm() * full.norm());
     EXPECT_LE((upper * t - w).norm(), 1e-12 * w.norm() * full.norm());
     EXPECT_LE((transformed_t - expected_t).norm(), 1e-9 * expected_t.norm());
