@@ -87,10 +87,12 @@ double ElementColoring::sum_over_elements(int count, EnergyOf&& energy_of) const
     for (int e = 0; e < count; ++e) energy += energy_of(e);
     return energy;
   }
+  // One parallel region, a barrier between colours (not a region each).
+#pragma omp parallel
   for (int c = 0; c < num_colors(); ++c) {
     const int begin = color_starts_[c];
     const int size = color_starts_[c + 1] - begin;
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static)
     for (int j = 0; j < size; ++j) {
       const int p = patches_[begin + j];
       const int end = std::min(count, (p + 1) * patch_size);
