@@ -7,6 +7,9 @@
 
 namespace weft {
 
+// The number of chunks the solvers' reductions cut a vector into, whatever the thread count.
+constexpr int reduction_chunks = 64;
+
 // First item of chunk c when n items are cut into `chunks` chunks.
 inline int chunk_begin(int c, int n, int chunks) {
   return static_cast<int>(static_cast<long long>(n) * c / chunks);

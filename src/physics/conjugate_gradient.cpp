@@ -170,16 +170,14 @@ void ConjugateGradientSolver::solve_gauss_seidel(Eigen::VectorXd& dx, double thr
   p_ = z_;
   double residual = start_norm;
   bool checked = true;  // `residual` is (D + L) r^'s norm for the current r^
-  // Each iteration: the product (the new direction formed inside its first solve), the
-  // curvature, then one pass for y, r, z = D r, |r|^2 and r . z.
+  // Each iteration: the product (the new direction formed inside its first solve, the curvature
+  // summed at its end), then one pass for y, r, z = D r, |r|^2 and r . z: two parallel regions.
   double beta = 0.0;
   while (report.iterations < max_iterations) {
-    if (report.iterations == 0) {
-      gauss_seidel_->multiply_transformed(p_, t_, q_);  // q = C p
-    } else {
-      gauss_seidel_->multiply_next_direction(z_, beta, p_, t_, q_);  // p = z + beta p, q = C p
-    }
-    const double curvature = dot(p_, q_);
+    // q = C p and the curvature p . q (after p = z + beta p but in the first iteration).
+    const double curvature = report.iterations == 0
+                                 ? gauss_seidel_->multiply_transformed(p_, t_, q_)
+                                 : gauss_seidel_->multiply_next_direction(z_, beta, p_, t_, q_);
     if (!(curvature > 0.0)) break;  // not positive definite along p (or NaN): stop with what we have
     const double alpha = rz / curvature;
     const auto [r_squared, rz_next] = step_and_precondition(alpha);

@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 
+#include "core/parallel_chunks.hpp"
 #include "physics/multicolor_gauss_seidel.hpp"
 #include "physics/sparse_hessian.hpp"
 
@@ -72,7 +73,7 @@ class ConjugateGradientSolver {
   std::vector<Mat3> inverse_blocks_;
   // Vectors are cut into this many chunks of whole vertices whatever the thread count; each
   // reduction sums its chunks' partial sums in chunk order.
-  static constexpr int num_chunks = 64;
+  static constexpr int num_chunks = reduction_chunks;
   std::array<double, num_chunks> partials_{};
   std::array<std::array<double, 2>, num_chunks> pair_partials_{};
   Eigen::VectorXd r_, z_, p_, q_;

@@ -179,9 +179,10 @@ void MulticolorGaussSeidel::solve_upper(const Eigen::VectorXd& v, Eigen::VectorX
 // those, both solves in one parallel region. Colour 0 has no lower blocks, so its rows of the
 // second solve are finished where the first solve ends on them: one barrier fewer.
 template <class Direction>
-void MulticolorGaussSeidel::multiply_transformed(const Direction& direction, const Eigen::VectorXd& p,
-                                                 Eigen::VectorXd& t, Eigen::VectorXd& q) {
+double MulticolorGaussSeidel::multiply_transformed(const Direction& direction, const Eigen::VectorXd& p,
+                                                   Eigen::VectorXd& t, Eigen::VectorXd& q) {
   const int colors = num_colors();
+  const int n = static_cast<int>(order_.size());
   const auto finish_lower = [&](int, int a, const Vec3& u_a) {
     q.segment<3>(3 * a) = u_a + t.segment<3>(3 * a);
   };
@@ -198,22 +199,33 @@ void MulticolorGaussSeidel::multiply_transformed(const Direction& direction, con
   {
     for (int c = colors - 1; c >= 0; --c) solve_color<false>(c, direction, t, finish_upper);
     for (int c = 1; c < colors; ++c) solve_color<true>(c, entries_of(remainder_), solved_, finish_lower);
+      // The curvature, chunk by chunk as chunked_sum cuts and sums a dot product.
+#pragma omp for schedule(static)
+    for (int c = 0; c < reduction_chunks; ++c) {
+      const Eigen::Index first = 3 * chunk_begin(c, n, reduction_chunks);
+      const Eigen::Index count = 3 * chunk_begin(c + 1, n, reduction_chunks) - first;
+      partials_[c] = p.segment(first, count).dot(q.segment(first, count));
+    }
   }
+  double curvature = 0.0;
+  for (const double value : partials_) curvature += value;
+  return curvature;
 }
 
-void MulticolorGaussSeidel::multiply_transformed(const Eigen::VectorXd& p, Eigen::VectorXd& t,
-                                                 Eigen::VectorXd& q) {
-  multiply_transformed(entries_of(p), p, t, q);
+double MulticolorGaussSeidel::multiply_transformed(const Eigen::VectorXd& p, Eigen::VectorXd& t,
+                                                   Eigen::VectorXd& q) {
+  return multiply_transformed(entries_of(p), p, t, q);
 }
 
-void MulticolorGaussSeidel::multiply_next_direction(const Eigen::VectorXd& z, double beta, Eigen::VectorXd& p,
-                                                    Eigen::VectorXd& t, Eigen::VectorXd& q) {
+double MulticolorGaussSeidel::multiply_next_direction(const Eigen::VectorXd& z, double beta,
+                                                      Eigen::VectorXd& p, Eigen::VectorXd& t,
+                                                      Eigen::VectorXd& q) {
   // Row a's entries of p are read by row a alone in the first solve, so each is updated there.
   const auto next = [&](int, int a) -> Vec3 {
     p.segment<3>(3 * a) = z.segment<3>(3 * a) + beta * p.segment<3>(3 * a);
     return p.segment<3>(3 * a);
   };
-  multiply_transformed(next, p, t, q);
+  return multiply_transformed(next, p, t, q);
 }
 
 double MulticolorGaussSeidel::lower_product_squared_norm(const Eigen::VectorXd& x) {

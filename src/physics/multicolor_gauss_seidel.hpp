@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 
 #include "core/math.hpp"
+#include "core/parallel_chunks.hpp"
 #include "physics/sparse_hessian.hpp"
 
 namespace weft {
@@ -37,12 +38,14 @@ class MulticolorGaussSeidel {
   // t = (D + U)^-1 v, colour by colour in reverse (t not v).
   void solve_upper(const Eigen::VectorXd& v, Eigen::VectorXd& t) const;
   // q = C p with C = (D + L)^-1 H (D + U)^-1, as Eisenstat's trick forms it: t = (D + U)^-1 p,
-  // then q = t + (D + L)^-1 (p - D t). Also leaves t in `t` (sized by the caller, as q).
-  void multiply_transformed(const Eigen::VectorXd& p, Eigen::VectorXd& t, Eigen::VectorXd& q);
+  // then q = t + (D + L)^-1 (p - D t). Also leaves t in `t` (sized by the caller, as q). Returns
+  // the curvature p . q, summed over `reduction_chunks` chunks of whole vertices in order (as
+  // CG's dot products are), in the product's own parallel region.
+  double multiply_transformed(const Eigen::VectorXd& p, Eigen::VectorXd& t, Eigen::VectorXd& q);
   // CG's next direction and its product in one: p = z + beta p, row by row as the first solve
-  // reaches it (no pass of its own), then q = C p and t as above.
-  void multiply_next_direction(const Eigen::VectorXd& z, double beta, Eigen::VectorXd& p, Eigen::VectorXd& t,
-                               Eigen::VectorXd& q);
+  // reaches it (no pass of its own), then q = C p, t and p . q as above.
+  double multiply_next_direction(const Eigen::VectorXd& z, double beta, Eigen::VectorXd& p,
+                                 Eigen::VectorXd& t, Eigen::VectorXd& q);
   // y = D x.
   void multiply_diagonal(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
   // y_a = D_a x_a for the vertices a in [begin, end) (a piece of another pass over the vertices).
@@ -60,8 +63,8 @@ class MulticolorGaussSeidel {
   void analyse_pattern(const SparseHessian& hessian);
   // The product with the first solve's right-hand side given row by row (direction(k, a) = p_a).
   template <class Direction>
-  void multiply_transformed(const Direction& direction, const Eigen::VectorXd& p, Eigen::VectorXd& t,
-                            Eigen::VectorXd& q);
+  double multiply_transformed(const Direction& direction, const Eigen::VectorXd& p, Eigen::VectorXd& t,
+                              Eigen::VectorXd& q);
   // out_a = D_a^-1 (rhs(k, a) - sum of the row's lower (upper) blocks times out), then
   // finish(k, a, out_a) (k the position of a); rhs is called once a row, by the thread solving it.
   template <bool lower, class Rhs, class Finish>
@@ -84,7 +87,7 @@ class MulticolorGaussSeidel {
   std::vector<int> positions_;  // per vertex: its position in order_
   std::vector<double> lower_values_, upper_values_;
   std::vector<Mat3> diagonal_, inverse_diagonal_;  // per position in order_
-  std::array<double, 64> partials_{};
+  std::array<double, reduction_chunks> partials_{};
   Eigen::VectorXd remainder_, solved_;  // multiply_transformed's p - D t and (D + L)^-1 of it
 };
 

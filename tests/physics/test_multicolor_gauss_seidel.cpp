@@ -131,16 +131,16 @@ TEST(MulticolorGaussSeidel, SolvesAndEisenstatProductMatchDenseAlgebraOnAnyThrea
     Eigen::VectorXd u(size), t(size), q(size), transformed_t(size), d(size);
     gauss_seidel.solve_lower(w, u);
     gauss_seidel.solve_upper(w, t);
-    gauss_seidel.multiply_transformed(p, transformed_t, q);
+    const double curvature = gauss_seidel.multiply_transformed(p, transformed_t, q);
     gauss_seidel.multiply_diagonal(w, d);
     const double lower_norm = gauss_seidel.lower_product_squared_norm(w);
     // CG's next direction formed inside the product: p' = z + beta p, then C p', exactly as apart.
     const double beta = 0.37;
     Eigen::VectorXd direction = w, next_t(size), next_q(size);
-    gauss_seidel.multiply_next_direction(p, beta, direction, next_t, next_q);
+    const double next_curvature = gauss_seidel.multiply_next_direction(p, beta, direction, next_t, next_q);
     const Eigen::VectorXd formed = p + beta * w;
     Eigen::VectorXd apart_t(size), apart_q(size);
-    gauss_seidel.multiply_transformed(formed, apart_t, apart_q);
+    EXPECT_EQ(next_curvature, gauss_seidel.multiply_transformed(formed, apart_t, apart_q));
     EXPECT_EQ(direction, formed);
     EXPECT_EQ(next_t, apart_t);
     EXPECT_EQ(next_q, apart_q);
@@ -154,10 +154,11 @@ TEST(MulticolorGaussSeidel, SolvesAndEisenstatProductMatchDenseAlgebraOnAnyThrea
     EXPECT_LE((upper * t - w).norm(), 1e-12 * w.norm() * full.norm());
     EXPECT_LE((transformed_t - expected_t).norm(), 1e-9 * expected_t.norm());
     EXPECT_LE((q - expected_q).norm(), 1e-9 * expected_q.norm());
+    EXPECT_NEAR(curvature, p.dot(q), 1e-12 * p.norm() * q.norm());
     EXPECT_LE((d - diagonal * w).norm(), 1e-13 * (diagonal * w).norm());
     EXPECT_NEAR(lower_norm, (lower * w).squaredNorm(), 1e-12 * (lower * w).squaredNorm());
-    Eigen::VectorXd all(5 * size + 1);
-    all << u, t, transformed_t, q, d, lower_norm;
+    Eigen::VectorXd all(5 * size + 2);
+    all << u, t, transformed_t, q, d, lower_norm, curvature;
     results.push_back(all);
   }
   omp_set_num_threads(threads_before);
