@@ -198,8 +198,10 @@ double MulticolorGaussSeidel::multiply_transformed(const Direction& direction, c
 #pragma omp parallel
   {
     for (int c = colors - 1; c >= 0; --c) solve_color<false>(c, direction, t, finish_upper);
-    for (int c = 1; c < colors; ++c) solve_color<true>(c, entries_of(remainder_), solved_, finish_lower);
-      // The curvature, chunk by chunk as chunked_sum cuts and sums a dot product.
+    for (int c = 1; c < colors; ++c) {
+      solve_color<true>(c, entries_of(remainder_), solved_, finish_lower);
+    }
+    // The curvature, chunk by chunk as chunked_sum cuts and sums a dot product.
 #pragma omp for schedule(static)
     for (int c = 0; c < reduction_chunks; ++c) {
       const Eigen::Index first = 3 * chunk_begin(c, n, reduction_chunks);
