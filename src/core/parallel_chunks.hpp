@@ -22,15 +22,29 @@ void for_each_chunk(int n, int chunks, const Body& body) {
   for (int c = 0; c < chunks; ++c) body(chunk_begin(c, n, chunks), chunk_begin(c + 1, n, chunks));
 }
 
-// The sum over the chunks of partial(begin, end), a partial sum over items [begin, end).
-template <std::size_t Chunks, class Partial>
-double chunked_sum(int n, std::array<double, Chunks>& partials, const Partial& partial) {
+// partials[c] = partial(begin, end) for every chunk c of n items, the chunks shared among the
+// threads of the enclosing parallel region (a barrier at the end; serial outside one).
+template <std::size_t Chunks, class Value, class Partial>
+void chunk_partials(int n, std::array<Value, Chunks>& partials, const Partial& partial) {
   const int chunks = static_cast<int>(Chunks);
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static)
   for (int c = 0; c < chunks; ++c) partials[c] = partial(chunk_begin(c, n, chunks), chunk_begin(c + 1, n, chunks));
+}
+
+// The partial sums added in chunk order.
+template <std::size_t Chunks>
+double sum_in_order(const std::array<double, Chunks>& partials) {
   double sum = 0.0;
   for (const double value : partials) sum += value;
   return sum;
+}
+
+// The sum over the chunks of partial(begin, end), a partial sum over items [begin, end).
+template <std::size_t Chunks, class Partial>
+double chunked_sum(int n, std::array<double, Chunks>& partials, const Partial& partial) {
+#pragma omp parallel
+  chunk_partials(n, partials, partial);
+  return sum_in_order(partials);
 }
 
 // Two sums in one pass: partial(begin, end) returns a chunk's two partial sums; each total is
@@ -38,10 +52,8 @@ double chunked_sum(int n, std::array<double, Chunks>& partials, const Partial& p
 template <std::size_t Chunks, class Partial>
 std::array<double, 2> chunked_sums(int n, std::array<std::array<double, 2>, Chunks>& partials,
                                    const Partial& partial) {
-  const int chunks = static_cast<int>(Chunks);
-#pragma omp parallel for schedule(static)
-  for (int c = 0; c < chunks; ++c)
-    partials[c] = partial(chunk_begin(c, n, chunks), chunk_begin(c + 1, n, chunks));
+#pragma omp parallel
+  chunk_partials(n, partials, partial);
   std::array<double, 2> sums{0.0, 0.0};
   for (const std::array<double, 2>& values : partials) {
     sums[0] += values[0];

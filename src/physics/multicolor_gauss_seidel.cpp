@@ -202,16 +202,11 @@ double MulticolorGaussSeidel::multiply_transformed(const Direction& direction, c
       solve_color<true>(c, entries_of(remainder_), solved_, finish_lower);
     }
     // The curvature, chunk by chunk as chunked_sum cuts and sums a dot product.
-#pragma omp for schedule(static)
-    for (int c = 0; c < reduction_chunks; ++c) {
-      const Eigen::Index first = 3 * chunk_begin(c, n, reduction_chunks);
-      const Eigen::Index count = 3 * chunk_begin(c + 1, n, reduction_chunks) - first;
-      partials_[c] = p.segment(first, count).dot(q.segment(first, count));
-    }
+    chunk_partials(n, partials_, [&](int begin, int end) {
+      return p.segment(3 * begin, 3 * (end - begin)).dot(q.segment(3 * begin, 3 * (end - begin)));
+    });
   }
-  double curvature = 0.0;
-  for (const double value : partials_) curvature += value;
-  return curvature;
+  return sum_in_order(partials_);
 }
 
 double MulticolorGaussSeidel::multiply_transformed(const Eigen::VectorXd& p, Eigen::VectorXd& t,
@@ -246,12 +241,8 @@ double MulticolorGaussSeidel::lower_product_squared_norm(const Eigen::VectorXd& 
 }
 
 void MulticolorGaussSeidel::multiply_diagonal(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-  const int n = static_cast<int>(diagonal_.size());
-#pragma omp parallel for schedule(static)
-  for (int k = 0; k < n; ++k) {
-    const int a = order_[k];
-    y.segment<3>(3 * a) = diagonal_[k] * x.segment<3>(3 * a);
-  }
+  for_each_chunk(static_cast<int>(order_.size()), reduction_chunks,
+                 [&](int begin, int end) { multiply_diagonal(begin, end, x, y); });
 }
 
 void MulticolorGaussSeidel::multiply_diagonal(int begin, int end, const Eigen::VectorXd& x,
