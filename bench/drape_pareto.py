@@ -8,8 +8,8 @@ Runs scenes/drape_sphere.json headless at N x N vertices, first as a converged r
 (h = 1/960 s, Newton residual 1e-4 m/s, Cholesky), then at every configuration of CONFIGS
 (time step, Newton tolerance, Newton iterations capped), each --runs times. Every run's frames
 are compared with the reference's frame at the same time (vertex distances, RMS and largest);
-its cost is the wall seconds of stepping (stats.csv's step_ms) per simulated second, the median
-of the runs. Writes
+its cost is the wall seconds of stepping (stats.csv's step_ms) per simulated second, counted as
+bench/peers/run counts it (summarize.weft_stepping), the median of the runs. Writes
   OUT/pareto.csv       one row per configuration: cost, deviations, Newton iterations
   OUT/deviation.csv    one row per configuration x frame: RMS and largest deviation
   OUT/pareto.png       cost against deviation, and deviation over time (needs matplotlib)
@@ -30,6 +30,9 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENE = ROOT / "scenes" / "drape_sphere.json"
+sys.dont_write_bytecode = True  # no __pycache__ left in the source tree
+sys.path.insert(0, str(ROOT / "bench" / "peers"))
+from summarize import weft_stepping  # noqa: E402  the cost as bench/peers/run counts it
 
 # (label, overrides). The shipped settings are h = 1/240 s and a Newton tolerance of 1e-2 m/s.
 REFERENCE = ("reference: h 1/960, tolerance 1e-4, Cholesky",
@@ -63,14 +66,9 @@ def read_pc2(path):
     return [[values[3 * (s * points + p):3 * (s * points + p) + 3] for p in range(points)] for s in range(samples)]
 
 
-def stepping_seconds(run_dir):
-    """Wall seconds spent stepping (the sum of stats.csv's step_ms)."""
-    with (run_dir / "stats.csv").open() as f:
-        return sum(float(row["step_ms"]) for row in csv.DictReader(f)) / 1000.0
-
-
 def simulate(weft, out_dir, resolution, threads, overrides):
-    """Runs the drape once with the overrides; returns (stepping seconds, summary.json)."""
+    """Runs the drape once with the overrides; returns (wall seconds of stepping per simulated
+    second, summary.json)."""
     args = [str(weft), "--headless", str(SCENE), "--out", str(out_dir), "--quiet", "--threads", str(threads),
             "--fixed-threads", "--set", f"cloths.0.grid.resolution=[{resolution},{resolution}]"]
     for path, value in overrides.items():
@@ -80,7 +78,8 @@ def simulate(weft, out_dir, resolution, threads, overrides):
     summary = json.loads(summary_path.read_text()) if summary_path.exists() else {}
     if result.returncode != 0 or summary.get("status") != "complete":
         fail(f"{' '.join(args)} exited {result.returncode}: {result.stderr.strip()[-400:]}")
-    return stepping_seconds(out_dir), summary
+    stepping = weft_stepping(out_dir)
+    return stepping["wall_s"] / stepping["simulated_s"], summary
 
 
 def deviations(frames, reference):
@@ -173,9 +172,9 @@ def main():
     summaries = {}
     for run in range(args.runs):  # interleaved, so every configuration sees the same machine
         for k, (label, overrides) in enumerate(CONFIGS):
-            seconds, summaries[label] = simulate(args.weft, args.out / f"config{k}", args.resolution, args.threads,
-                                                 overrides)
-            costs[label].append(seconds / summaries[label]["simulated_seconds"])
+            cost, summaries[label] = simulate(args.weft, args.out / f"config{k}", args.resolution, args.threads,
+                                              overrides)
+            costs[label].append(cost)
             print(f"run {run + 1}/{args.runs} {label}: {costs[label][-1]:.2f} s per simulated second", flush=True)
     rows, per_frame = [], {}
     for k, (label, _) in enumerate(CONFIGS):
