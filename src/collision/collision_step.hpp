@@ -34,6 +34,9 @@ struct ResponseSettings {
   // N/m; implicit Euler's contact penalty (0: off). Its normal impulse over the step,
   // h kappa (thickness - distance), joins the proximity impulse in bounding Coulomb friction.
   double penalty_stiffness = 0.0;
+  // Collider contacts in the solve (a cloth-collider pair only): kappa = ratio m / h^2, so the
+  // penalty's velocity change ratio (thickness - distance) / h joins the bound too.
+  double collider_contact_ratio = 0.0;
 };
 
 }  // namespace weft

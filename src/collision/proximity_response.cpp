@@ -48,10 +48,14 @@ double respond(CollisionStep& step, const ContactStencil& stencil, double distan
   }
   // The contact penalty inside implicit Euler already pushed the pair apart during the step, with
   // about h kappa (thickness - gap) at the gap where the solve left it; that impulse counts
-  // towards the friction bound like the one above.
-  const double end_gap = stencil.normal.dot(relative_start_position(step, stencil)) + h * normal_speed;
+  // towards the friction bound like the one above. A collider contact's penalty holds the pair
+  // at its thickness or at its start gap when nearer (CollisionPhase::collider_contacts), with
+  // kappa = ratio m / h^2: a velocity change of ratio (min(thickness, start gap) - gap) / h.
+  const double start_gap = stencil.normal.dot(relative_start_position(step, stencil));
+  const double end_gap = start_gap + h * normal_speed;
   const double penalty_change =
-      h * settings.penalty_stiffness * std::max(settings.thickness - end_gap, 0.0) * inverse_mass;
+      h * settings.penalty_stiffness * std::max(settings.thickness - end_gap, 0.0) * inverse_mass +
+      settings.collider_contact_ratio / h * std::max(std::min(settings.thickness, start_gap) - end_gap, 0.0);
   const double friction_bound = speed_change + penalty_change;  // both >= 0
   if (!(friction_bound > 0.0)) return 0.0;
   const double normal_impulse = speed_change / inverse_mass;

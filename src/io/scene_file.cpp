@@ -564,6 +564,7 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
     collision.integer("max_impact_zone_passes", settings.max_impact_zone_passes, 1, 10000);
     collision.integer("max_rounds", settings.max_rounds, 1, 100);
     collision.number("penalty_stiffness", settings.penalty_stiffness, non_negative);
+    collision.number("collider_contact_ratio", settings.collider_contact_ratio, non_negative);
     collision.number("strain_limit", settings.strain_limit, non_negative);
     collision.integer("strain_limit_sweeps", settings.strain_limit_sweeps, 1, 1000);
     collision.number("bvh_rebuild_ratio", settings.bvh.rebuild_ratio, Range{1.0, HUGE_VAL, true, " > 1"});
@@ -767,6 +768,7 @@ json scene_to_json(const SceneDesc& scene) {
                            {"max_impact_zone_passes", scene.collision.max_impact_zone_passes},
                            {"max_rounds", scene.collision.max_rounds},
                            {"penalty_stiffness", scene.collision.penalty_stiffness},
+                           {"collider_contact_ratio", scene.collision.collider_contact_ratio},
                            {"strain_limit", scene.collision.strain_limit},
                            {"strain_limit_sweeps", scene.collision.strain_limit_sweeps},
                            {"bvh_rebuild_ratio", scene.collision.bvh.rebuild_ratio},

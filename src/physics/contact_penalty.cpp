@@ -15,7 +15,57 @@ double overlap(const PenaltyContact& contact, const Positions& x) {
   return contact.thickness - gap;
 }
 
+// The cloth vertex of a contact holding exactly one, else -1.
+int single_vertex(const PenaltyContact& contact) {
+  int vertex = -1;
+  for (int k = 0; k < 4; ++k) {
+    const int v = contact.vertices[k];
+    if (v < 0 || v == vertex) continue;
+    if (vertex >= 0) return -1;
+    vertex = v;
+  }
+  return vertex;
+}
+
 }  // namespace
+
+void ContactPenalty::index_vertices(int num_vertices) {
+  coupled_ = false;
+  vertex_start_.assign(num_vertices + 1, 0);
+  for (const PenaltyContact& contact : contacts) {
+    const int v = single_vertex(contact);
+    if (v < 0) {
+      coupled_ = true;
+    } else {
+      ++vertex_start_[v + 1];
+    }
+  }
+  for (int v = 0; v < num_vertices; ++v) vertex_start_[v + 1] += vertex_start_[v];
+  vertex_contacts_.resize(vertex_start_[num_vertices]);
+  for (int c = 0, size = static_cast<int>(contacts.size()); c < size; ++c) {
+    const int v = single_vertex(contacts[c]);
+    if (v >= 0) vertex_contacts_[vertex_start_[v]++] = c;
+  }
+  for (int v = num_vertices; v > 0; --v) vertex_start_[v] = vertex_start_[v - 1];
+  vertex_start_[0] = 0;
+  indexed_ = contacts.size();
+}
+
+double ContactPenalty::vertex_energy(int v, const Vec3& x_v, Vec3* gradient, Mat3* hessian) const {
+  if (v + 1 >= static_cast<int>(vertex_start_.size())) return 0.0;
+  double energy = 0.0;
+  for (int k = vertex_start_[v]; k < vertex_start_[v + 1]; ++k) {
+    const PenaltyContact& contact = contacts[vertex_contacts_[k]];
+    double w = 0.0;  // the vertex's weight (summed if it fills two corners)
+    for (int j = 0; j < 4; ++j) w += contact.vertices[j] == v ? contact.weights[j] : 0.0;
+    const double d = contact.thickness - contact.offset - w * contact.normal.dot(x_v);
+    if (!(d > 0.0)) continue;
+    energy += 0.5 * contact.stiffness * d * d;
+    if (gradient != nullptr) *gradient -= (contact.stiffness * d * w) * contact.normal;
+    if (hessian != nullptr) *hessian += (contact.stiffness * w * w) * contact.normal * contact.normal.transpose();
+  }
+  return energy;
+}
 
 double ContactPenalty::evaluate(const Positions& x, Positions* gradient, SparseHessian* hessian) const {
   if (!active()) return 0.0;
@@ -23,6 +73,7 @@ double ContactPenalty::evaluate(const Positions& x, Positions* gradient, SparseH
   for (const PenaltyContact& contact : contacts) {
     const double d = overlap(contact, x);
     if (!(d > 0.0)) continue;
+    const double stiffness = contact.stiffness;
     energy += 0.5 * stiffness * d * d;
     const Mat3 normal_block = stiffness * contact.normal * contact.normal.transpose();
     for (int k = 0; k < 4; ++k) {
@@ -54,7 +105,7 @@ void ContactPenalty::add_coupling_product(const Positions& x, const Eigen::Vecto
       for (int k = 0; k < 4; ++k) {
         if (k != j && contact.vertices[k] != v) sum += contact.weights[k] * normal_p[k];
       }
-      y.segment<3>(3 * v) += (stiffness * contact.weights[j] * sum) * contact.normal;
+      y.segment<3>(3 * v) += (contact.stiffness * contact.weights[j] * sum) * contact.normal;
     }
   }
 }

@@ -28,13 +28,24 @@ struct PenaltyContact {
   Vec3 normal;                  // unit; g grows as the contact opens
   double offset = 0.0;          // m
   double thickness = 0.0;       // m, delta
+  double stiffness = 0.0;       // N/m, kappa
 };
 
 struct ContactPenalty {
-  double stiffness = 0.0;  // N/m, kappa; 0: off
   std::vector<PenaltyContact> contacts;
 
-  bool active() const { return stiffness > 0.0 && !contacts.empty(); }
+  bool active() const { return !contacts.empty(); }
+
+  // After the contacts are set: whether any joins two or more vertices of the cloth (only such
+  // contacts have off-diagonal Hessian blocks), and each vertex's contacts for vertex_energy.
+  // Allocates only to grow.
+  void index_vertices(int num_vertices);
+  // (True also when the contacts changed since index_vertices.)
+  bool coupled() const { return coupled_ || indexed_ != contacts.size(); }
+  // The energy of vertex v's contacts that hold no other vertex of the cloth, at x_v; adds their
+  // gradient and Hessian block when not null. For the Newton tail (physics/newton_tail.hpp), which
+  // runs only when nothing is coupled.
+  double vertex_energy(int v, const Vec3& x_v, Vec3* gradient, Mat3* hessian) const;
 
   // Energy at x; adds its gradient to `gradient` and its diagonal 3x3 blocks to `hessian` (when
   // not null). The off-diagonal blocks stay out of the sparse pattern (contacts change every
@@ -45,6 +56,12 @@ struct ContactPenalty {
   // (their rows and columns are identity in the Newton system). p and y are 3n vectors.
   void add_coupling_product(const Positions& x, const Eigen::VectorXd& free, const Eigen::VectorXd& p,
                             Eigen::VectorXd& y) const;
+
+ private:
+  bool coupled_ = false;
+  size_t indexed_ = 0;                // contacts.size() at index_vertices
+  std::vector<int> vertex_start_;     // (n_vertices + 1) offsets into vertex_contacts_
+  std::vector<int> vertex_contacts_;  // contacts of one cloth vertex, grouped by vertex
 };
 
 }  // namespace weft

@@ -93,7 +93,7 @@ bool ImplicitEulerSolver::solve(const ImplicitEulerSettings& settings, double cg
   }
   cg_.set_preconditioner(settings.cg_preconditioner);
   const ConjugateGradientReport cg = cg_.solve(hessian_, rhs_, dx_, cg_tolerance, settings.max_cg_iterations,
-                                               penalty_ ? &coupling_ : nullptr, cg_guess);
+                                               penalty_ && penalty_->coupled() ? &coupling_ : nullptr, cg_guess);
   report_.linear_iterations += cg.iterations;
   return dx_.allFinite() && (cg.iterations > 0 || cg.converged);
 }
@@ -173,7 +173,8 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   int diverging = 0;
   double cg_tolerance = std::max(settings.cg_tolerance, settings.cg_initial_tolerance);
   const bool use_tail =
-      tail_supported_ && penalty_ == nullptr && !exact_first && settings.restricted_tail_share > 0.0;
+      tail_supported_ && (penalty_ == nullptr || !penalty_->coupled()) && !exact_first &&
+      settings.restricted_tail_share > 0.0;
   NewtonTailSettings tail_settings;
   tail_settings.tolerance = settings.newton_tolerance;
   tail_settings.largest_share = settings.restricted_tail_share;
@@ -272,8 +273,8 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     if (use_tail && !report_.converged) {
       // The residual left on a few vertices: iterations on their region, then the whole cloth's
       // gradient again, so that the residual judged is the cloth's.
-      const int restricted = tail_.iterate(model, gravity, h, x_start_, x_hat_, tail_settings, hessian_,
-                                           stencils_, x, gradient_);
+      const int restricted = tail_.iterate(model, gravity, h, x_start_, x_hat_, penalty_, tail_settings,
+                                           hessian_, stencils_, x, gradient_);
       if (restricted > 0) {
         report_.newton_iterations += restricted;
         report_.restricted_iterations += restricted;

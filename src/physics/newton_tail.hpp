@@ -14,12 +14,13 @@
 // always the whole cloth's.
 //
 // Terms: the membrane, hinges (dihedral: Gauss-Newton Hessian; quadratic: its constant exact
-// one), gravity, the inertia and Rayleigh mass damping. supports() says whether a model holds
-// only those.
+// one), gravity, the inertia and Rayleigh mass damping, and contact penalties that hold one
+// vertex each (collider contacts). supports() says whether a model holds only those.
 #include <vector>
 
 #include "physics/cloth.hpp"
 #include "physics/cloth_terms.hpp"
+#include "physics/contact_penalty.hpp"
 #include "physics/sparse_hessian.hpp"
 
 namespace weft {
@@ -44,9 +45,10 @@ class NewtonTail {
   // are updated in place (gradient exact wherever it changed). `hessian` is the solver's, with
   // its stencils: the region's rows are overwritten (the caller assembles afresh after).
   // Returns the iterations taken (0: not started).
+  // `penalty` (or null) must not be coupled().
   int iterate(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
-              const Positions& x_hat, const NewtonTailSettings& settings, SparseHessian& hessian,
-              const HessianStencils& stencils, Positions& x, Positions& gradient);
+              const Positions& x_hat, const ContactPenalty* penalty, const NewtonTailSettings& settings,
+              SparseHessian& hessian, const HessianStencils& stencils, Positions& x, Positions& gradient);
 
  private:
   // Counts the vertices above the tolerance and returns the count; when it is within (0, largest],
@@ -79,6 +81,7 @@ class NewtonTail {
   Eigen::VectorXd region_gradient_, dx_, r_, z_, p_, q_;
   std::vector<Mat3> inverse_blocks_;
   Positions saved_;  // the region's positions before a line search (3 x n, region columns used)
+  const ContactPenalty* penalty_ = nullptr;  // iterate's, while it runs
 };
 
 }  // namespace weft

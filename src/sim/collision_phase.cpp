@@ -113,6 +113,7 @@ void CollisionPhase::update_parameters(const std::vector<Cloth>& cloths,
 }
 
 void CollisionPhase::begin_step(const std::vector<Cloth>& cloths, double t) {
+  step_start_time_ = t;
   for (int c = 0; c < num_cloths_; ++c) {
     x_start_.middleCols(meshes_[c].offsets.vertex, meshes_[c].num_vertices) = cloths[c].state.x;
   }
@@ -254,6 +255,7 @@ ResponseSettings CollisionPhase::response_settings(int group) const {
     const ColliderSurface& collider = colliders_[b - num_cloths_];
     response.static_friction = collider.static_friction;
     response.kinetic_friction = collider.kinetic_friction;
+    response.collider_contact_ratio = settings.collider_contact_ratio;
   } else {
     response.static_friction = 0.5 * (materials_[a].static_friction + materials_[b].static_friction);
     response.kinetic_friction = 0.5 * (materials_[a].kinetic_friction + materials_[b].kinetic_friction);
@@ -362,8 +364,7 @@ void CollisionPhase::limit_strain() {
   stats_.response_ms += milliseconds_since(start);
 }
 
-void CollisionPhase::penalty_contacts(int cloth, ContactPenalty& penalty) {
-  penalty.contacts.clear();
+void CollisionPhase::penalty_contacts(int cloth, double stiffness, ContactPenalty& penalty) {
   const int first = meshes_[cloth].offsets.vertex;
   const Positions& x = x_start_;
   const CollisionStep step = make_step();
@@ -371,7 +372,7 @@ void CollisionPhase::penalty_contacts(int cloth, ContactPenalty& penalty) {
   const auto add = [&](const ContactStencil& stencil, const Vec3& gap, double thickness) {
     const double distance = gap.norm();
     if (!(distance > 1e-9 * thickness) || !(distance < 2.0 * thickness)) return;
-    PenaltyContact contact{{-1, -1, -1, -1}, stencil.weights, gap / distance, 0.0, thickness};
+    PenaltyContact contact{{-1, -1, -1, -1}, stencil.weights, gap / distance, 0.0, thickness, stiffness};
     bool touches = false;
     for (int k = 0; k < 4; ++k) {
       const int v = stencil.vertices[k];
@@ -398,6 +399,53 @@ void CollisionPhase::penalty_contacts(int cloth, ContactPenalty& penalty) {
       const EdgeEdgeClosest closest = edge_edge_closest(x.col(a[0]), x.col(a[1]), x.col(b[0]), x.col(b[1]));
       add(edge_edge_stencil(step, pair.edge_a, pair.edge_b, closest.s, closest.t, Vec3::Zero()),
           closest.point_a - closest.point_b, pair_thickness(a[0], b[0]));
+    }
+  }
+}
+
+void CollisionPhase::collider_contacts(int cloth, const Cloth& state, double h, const Vec3& gravity,
+                                       double ratio, ContactPenalty& penalty) {
+  const MeshSlot& slot = meshes_[cloth];
+  const double thickness = slot.thickness;
+  const double fall = h * h * gravity.norm();
+  // Moving colliders at the step's end, where the solve's positions are compared with them.
+  reach_positions_ = x_start_;  // same size every step: no allocation once grown
+  for (size_t k = 0; k < colliders_.size(); ++k) {
+    const MeshSlot& collider = meshes_[num_cloths_ + k];
+    if (!collider.moves) continue;
+    colliders_[k].motion.place(colliders_[k].rest_positions, step_start_time_ + h,
+                               reach_positions_.middleCols(collider.offsets.vertex, collider.num_vertices));
+  }
+  const Positions& at_end = reach_positions_;
+  for (int v = 0; v < slot.num_vertices; ++v) {
+    const double inverse_mass = state.model.inverse_mass[v];
+    if (!(inverse_mass > 0.0)) continue;
+    const Vec3 x = state.state.x.col(v);
+    const double reach = 2.0 * (h * state.state.v.col(v).norm() + fall) + thickness;
+    Aabb box;
+    box.grow(x - Vec3::Constant(reach));
+    box.grow(x + Vec3::Constant(reach));
+    for (size_t k = 0; k < colliders_.size(); ++k) {
+      const MeshSlot& collider = meshes_[num_cloths_ + k];
+      if (!collider.built) continue;
+      find_triangles_in_box(collider.bvh, box, reach_triangles_);
+      double nearest = reach;
+      Vec3 closest_point = Vec3::Zero();
+      for (const int t : reach_triangles_) {
+        const auto corners = collider.bvh.triangles().col(t);
+        const PointTriangleClosest closest =
+            point_triangle_closest(x, at_end.col(corners[0]), at_end.col(corners[1]), at_end.col(corners[2]));
+        const double distance = (x - closest.closest).norm();
+        if (distance < nearest) {
+          nearest = distance;
+          closest_point = closest.closest;
+        }
+      }
+      if (!(nearest < reach) || !(nearest > 1e-9 * thickness)) continue;
+      const Vec3 normal = (x - closest_point) / nearest;
+      PenaltyContact contact{{v, -1, -1, -1}, {1.0, 0.0, 0.0, 0.0}, normal, -normal.dot(closest_point),
+                             std::min(thickness, nearest), ratio / (inverse_mass * h * h)};
+      penalty.contacts.push_back(contact);
     }
   }
 }

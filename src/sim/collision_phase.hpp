@@ -60,6 +60,9 @@ struct CollisionSettings {
   // N/m; > 0 adds the last step's proximity contacts to implicit Euler's incremental potential
   // as a one-sided quadratic penalty (physics/contact_penalty.hpp); 0: off
   double penalty_stiffness = 0.0;
+  // > 0: implicit Euler's solve keeps each cloth vertex its thickness from the colliders it can
+  // reach in the step (collider_contacts), a penalty of this many times the vertex's m / h^2; 0: off
+  double collider_contact_ratio = 0.0;
   // > 0: after the proximity impulses and after each round's CCD impulses, cloth edges longer
   // than (1 + strain_limit) times their rest length are shortened to it
   // (collision/strain_limiting.hpp), in at most strain_limit_sweeps Gauss-Seidel sweeps; 0: off
@@ -142,8 +145,21 @@ class CollisionPhase {
   // After begin_step, for implicit Euler's contact penalty: the pairs the last step's proximity
   // phase acted on that are still within twice their thickness, with closest points and normals
   // at the cloths' current positions, as contacts of cloth `cloth` (vertices of other meshes
-  // folded into the offset). Replaces penalty.contacts; allocates only to grow it.
-  void penalty_contacts(int cloth, ContactPenalty& penalty);
+  // folded into the offset), with `stiffness` (N/m). Appends to penalty.contacts; allocates only
+  // to grow it.
+  void penalty_contacts(int cloth, double stiffness, ContactPenalty& penalty);
+
+  // After begin_step, for implicit Euler: each free vertex of cloth `cloth` that can come within
+  // its thickness of a collider during the step (its start position swept by h |v| + h^2 |gravity|,
+  // twice over, plus the thickness) gets one contact with the collider triangle nearest it (the
+  // collider at t + h), a plane through that triangle's closest point with the normal towards the
+  // vertex: the solve keeps the vertex at least its thickness from the plane, or as far as it
+  // starts when nearer, with stiffness `ratio` times the vertex's m / h^2. Triangles are found in
+  // the colliders' hierarchies as the last step left them, so a collider moving faster than the
+  // thickness a step can slip past one; the collision phase after the solve still catches it.
+  // Appends to penalty.contacts; allocates only to grow it.
+  void collider_contacts(int cloth, const Cloth& state, double h, const Vec3& gravity, double ratio,
+                         ContactPenalty& penalty);
 
   // The last step's proximity pairs (what penalty_contacts reads), for checkpoints: {0, vertex,
   // triangle} for vertex-face, {1, edge_a, edge_b} for edge-edge, in combined indices. Setting
@@ -233,6 +249,9 @@ class CollisionPhase {
   std::vector<char> escaped_flags_;     // per vertex
   MovedPrimitives escaped_primitives_;  // of one cloth, touching escaped vertices
   std::vector<int> box_triangles_;      // find_pairs_of's scratch
+  std::vector<int> reach_triangles_;    // collider_contacts' scratch
+  Positions reach_positions_;           // collider_contacts: x_start_ with moving colliders at t + h
+  double step_start_time_ = 0.0;        // begin_step's t
   GroupedPairs<VertexFacePair> near_vertex_faces_;  // the last proximity phase's pairs by material group
   GroupedPairs<EdgeEdgePair> near_edge_edges_;
   std::vector<char> near_vertex_face_;

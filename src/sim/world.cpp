@@ -127,11 +127,16 @@ void World::integrate(double h, StepStats& stats) {
       stats.energy_flows.external_work += kinetic_energy(cloth) - kinetic_before;
       solvers.ledger.begin(cloth, settings.gravity, energy_identity() == EnergyIdentity::symplectic_euler);
     }
-    solvers.penalty.stiffness = settings.collision.enabled ? settings.collision.penalty_stiffness : 0.0;
-    if (solvers.penalty.stiffness > 0.0 && settings.integrator == IntegratorKind::implicit_euler) {
-      collisions_.penalty_contacts(static_cast<int>(c), solvers.penalty);
-    } else {
-      solvers.penalty.contacts.clear();
+    solvers.penalty.contacts.clear();
+    if (settings.collision.enabled && settings.integrator == IntegratorKind::implicit_euler) {
+      if (settings.collision.penalty_stiffness > 0.0) {
+        collisions_.penalty_contacts(static_cast<int>(c), settings.collision.penalty_stiffness, solvers.penalty);
+      }
+      if (settings.collision.collider_contact_ratio > 0.0) {
+        collisions_.collider_contacts(static_cast<int>(c), cloth, h, settings.gravity,
+                                      settings.collision.collider_contact_ratio, solvers.penalty);
+      }
+      solvers.penalty.index_vertices(static_cast<int>(cloth.state.x.cols()));
     }
     integrate_cloth(cloth, solvers, h, stats);
     if (scripted) place_scripted_pins(cloth.model.scripted_pins, time_ + h, cloth.state.x);
@@ -219,7 +224,10 @@ void World::resolve_collisions(double h, StepStats& stats) {
   CollisionPhase& phase = collisions_;
   phase.settings = settings.collision;
   // The penalty acts only inside implicit Euler; the friction bound must not count it otherwise.
-  if (settings.integrator != IntegratorKind::implicit_euler) phase.settings.penalty_stiffness = 0.0;
+  if (settings.integrator != IntegratorKind::implicit_euler) {
+    phase.settings.penalty_stiffness = 0.0;
+    phase.settings.collider_contact_ratio = 0.0;
+  }
   phase.gather_motion(cloths_, time_, h);
   if (!phase.motion_is_valid()) {
     stats.collisions_clean = false;  // diverged: left to the caller's divergence check

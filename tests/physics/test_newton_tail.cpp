@@ -99,7 +99,7 @@ TEST_P(NewtonTailForBending, FinishesALocalResidualMovingOnlyItsRegionAndKeepsTh
   settings.tolerance = tolerance;
   settings.largest_share = 0.2;
   const int iterations =
-      tail.iterate(model, gravity, h, x_start, x_hat, settings, hessian, stencils, x, gradient);
+      tail.iterate(model, gravity, h, x_start, x_hat, nullptr, settings, hessian, stencils, x, gradient);
   EXPECT_GE(iterations, 1);
 
   Positions fresh;
