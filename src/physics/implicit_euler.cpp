@@ -171,8 +171,9 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   double best_residual = report_.residual;
   const double start_value = value;
   int diverging = 0;
+  bool best_is_start = true;
   double cg_tolerance = std::max(settings.cg_tolerance, settings.cg_initial_tolerance);
-  const bool use_tail =
+  bool use_tail =
       tail_supported_ && (penalty_ == nullptr || !penalty_->coupled()) && !exact_first &&
       settings.restricted_tail_share > 0.0;
   NewtonTailSettings tail_settings;
@@ -275,6 +276,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
       // gradient again, so that the residual judged is the cloth's.
       const int restricted = tail_.iterate(model, gravity, h, x_start_, x_hat_, penalty_, tail_settings,
                                            hessian_, stencils_, x, gradient_);
+      use_tail = use_tail && !tail_.collapsed();  // the rest of the step iterates on the whole cloth
       if (restricted > 0) {
         report_.newton_iterations += restricted;
         report_.restricted_iterations += restricted;
@@ -289,6 +291,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     if (report_.residual < best_residual) {
       best_residual = report_.residual;
       best_x_ = x;
+      best_is_start = false;
     }
     diverging = report_.residual > diverging_factor * best_residual && stalled ? diverging + 1 : 0;
     if (diverging >= diverging_iterations) {
@@ -297,6 +300,15 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
       report_.residual = best_residual;
       break;
     }
+  }
+  // A step that reached the cap while an iterate a hundredfold better than its last was found (a
+  // wing collapsing in its last iterations) ends on that iterate. Not on the start: a capped
+  // stiff step's iterates may all be worse than its guess and still the better answer.
+  if (!report_.converged && !best_is_start && report_.residual > diverging_factor * best_residual) {
+    report_.diverged_stops = 1;
+    x = best_x_;
+    report_.residual = best_residual;
+    incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/false, /*project=*/false);
   }
   report_.gradient_norms.push_back(gradient_vector().norm());
   state.v = (x - x_start_) / h;

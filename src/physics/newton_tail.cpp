@@ -11,6 +11,9 @@ namespace weft {
 
 namespace {
 
+// A tail step raising the largest residual by more than this is undone (a collapsing wing).
+constexpr double diverging_factor = 100.0;
+
 template <int K>
 int corner_of(const Eigen::Matrix<int, K, Eigen::Dynamic>& elements, int e, int vertex) {
   for (int k = 0; k < K; ++k) {
@@ -120,6 +123,12 @@ int NewtonTail::collect_region(const ClothModel& model, double h, double toleran
     touch(v);
   }
   return above;
+}
+
+double NewtonTail::worst_residual(const ClothModel& model, double h, const Positions& gradient) const {
+  double worst = 0.0;
+  for (const int i : touched_) worst = std::max(worst, h * gradient.col(i).norm() * model.inverse_mass[i]);
+  return worst;
 }
 
 double NewtonTail::region_potential(const ClothModel& model, const Vec3& gravity, double h,
@@ -240,6 +249,7 @@ int NewtonTail::iterate(const ClothModel& model, const Vec3& gravity, double h, 
                         const NewtonTailSettings& settings, SparseHessian& hessian,
                         const HessianStencils& stencils, Positions& x, Positions& gradient) {
   penalty_ = penalty != nullptr && penalty->active() ? penalty : nullptr;
+  collapsed_ = false;
   int free_vertices = 0;
   for (int i = 0; i < num_vertices_; ++i) free_vertices += model.inverse_mass[i] > 0.0;
   const double largest = settings.largest_share * free_vertices;
@@ -268,7 +278,16 @@ int NewtonTail::iterate(const ClothModel& model, const Vec3& gravity, double h, 
       for (const int i : region_) x.col(i) = saved_.col(i);
       break;
     }
+    // Phi fell, but a step that raises the residual a hundredfold is a hinge's wing collapsing
+    // towards zero height (its gradient grows as 1 / height): undone, and the tail stops.
+    const double worst_before = worst_residual(model, h, gradient);
     update_gradient(model, gravity, h, x_start, x_hat, x, gradient);
+    if (worst_residual(model, h, gradient) > diverging_factor * worst_before) {
+      for (const int i : region_) x.col(i) = saved_.col(i);
+      update_gradient(model, gravity, h, x_start, x_hat, x, gradient);
+      collapsed_ = true;
+      break;
+    }
     ++iterations;
   }
   return iterations;

@@ -37,6 +37,7 @@ class NewtonTail {
  public:
   // Whether every term of `model` is one the tail evaluates element by element.
   static bool supports(const ClothModel& model);
+  bool collapsed() const { return collapsed_; }
   // Incidence lists and scratch for `model` (allocates; step() then does not).
   void prepare(const ClothModel& model);
 
@@ -44,7 +45,8 @@ class NewtonTail {
   // vertices above the tolerance number at most largest_share of the free ones; x and gradient
   // are updated in place (gradient exact wherever it changed). `hessian` is the solver's, with
   // its stencils: the region's rows are overwritten (the caller assembles afresh after).
-  // Returns the iterations taken (0: not started).
+  // Returns the iterations taken (0: not started); collapsed() then says whether it stopped on a
+  // step that raised the residual a hundredfold (undone).
   // `penalty` (or null) must not be coupled().
   int iterate(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
               const Positions& x_hat, const ContactPenalty* penalty, const NewtonTailSettings& settings,
@@ -54,6 +56,8 @@ class NewtonTail {
   // Counts the vertices above the tolerance and returns the count; when it is within (0, largest],
   // collects the region (those vertices plus neighbours, free only) and the elements that touch it.
   int collect_region(const ClothModel& model, double h, double tolerance, double largest, const Positions& gradient);
+  // The largest residual h |g_i| / m_i over the vertices the region's elements touch.
+  double worst_residual(const ClothModel& model, double h, const Positions& gradient) const;
   // The part of the incremental potential that the region's vertices enter.
   double region_potential(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
                           const Positions& x_hat, const Positions& x) const;
@@ -82,6 +86,7 @@ class NewtonTail {
   std::vector<Mat3> inverse_blocks_;
   Positions saved_;  // the region's positions before a line search (3 x n, region columns used)
   const ContactPenalty* penalty_ = nullptr;  // iterate's, while it runs
+  bool collapsed_ = false;
 };
 
 }  // namespace weft

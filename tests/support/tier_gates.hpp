@@ -24,7 +24,8 @@
 //                the initial energy), so that a phase cannot hide energy it made in a flow
 //                (sim/energy_ledger.hpp).
 // Used by bench/tier_gates.cpp (prints them for a candidate) and tests/sim/test_tier_gates.cpp
-// (the shipped settings pass them; a capped Newton solve and h = 1/120 s with the limit do not).
+// (the shipped settings pass them; a capped Newton solve, and h = 1/120 s with the limit and
+// without the collider contacts in the solve, do not).
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
