@@ -171,7 +171,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   double best_residual = report_.residual;
   const double start_value = value;
   int diverging = 0;
-  bool best_is_start = true;
+  double best_value = value;
   double cg_tolerance = std::max(settings.cg_tolerance, settings.cg_initial_tolerance);
   bool use_tail =
       tail_supported_ && (penalty_ == nullptr || !penalty_->coupled()) && !exact_first &&
@@ -291,7 +291,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     if (report_.residual < best_residual) {
       best_residual = report_.residual;
       best_x_ = x;
-      best_is_start = false;
+      best_value = value;
     }
     diverging = report_.residual > diverging_factor * best_residual && stalled ? diverging + 1 : 0;
     if (diverging >= diverging_iterations) {
@@ -301,10 +301,11 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
       break;
     }
   }
-  // A step that reached the cap while an iterate a hundredfold better than its last was found (a
-  // wing collapsing in its last iterations) ends on that iterate. Not on the start: a capped
-  // stiff step's iterates may all be worse than its guess and still the better answer.
-  if (!report_.converged && !best_is_start && report_.residual > diverging_factor * best_residual) {
+  // A step that reached the cap diverging as above (its residual a hundredfold over the best
+  // iterate's while Phi fell by under stalled_fraction of the step's decrease since it: a wing
+  // collapsing in the last iterations) ends on the best iterate.
+  if (!report_.converged && report_.residual > diverging_factor * best_residual &&
+      best_value - value < stalled_fraction * (start_value - value)) {
     report_.diverged_stops = 1;
     x = best_x_;
     report_.residual = best_residual;
