@@ -155,19 +155,23 @@ CollisionStep CollisionPhase::make_step() {
 void CollisionPhase::refit_bounding_volumes() {
   for (MeshSlot& slot : meshes_) {
     if (slot.built && !slot.moves) continue;
-    const auto update = [&](Bvh& bvh, const Triangles& entries) {
-      if (!slot.built || bvh.needs_rebuild()) {
-        bvh.build(x_start_, x_end_, entries, box_margin(), settings.bvh);
-        ++stats_.bvh_rebuilds;
-      } else {
-        bvh.refit(x_start_, x_end_, box_margin());
-      }
-    };
-    update(slot.bvh, slot.global_triangles);
-    update(slot.vertex_bvh, slot.vertex_entries);
-    update(slot.edge_bvh, slot.edge_entries);
-    slot.built = true;
+    update_bounding_volumes(slot, x_start_, x_end_);
   }
+}
+
+void CollisionPhase::update_bounding_volumes(MeshSlot& slot, const Positions& from, const Positions& to) {
+  const auto update = [&](Bvh& bvh, const Triangles& entries) {
+    if (!slot.built || bvh.needs_rebuild()) {
+      bvh.build(from, to, entries, box_margin(), settings.bvh);
+      ++stats_.bvh_rebuilds;
+    } else {
+      bvh.refit(from, to, box_margin());
+    }
+  };
+  update(slot.bvh, slot.global_triangles);
+  update(slot.vertex_bvh, slot.vertex_entries);
+  update(slot.edge_bvh, slot.edge_entries);
+  slot.built = true;
 }
 
 PrimitiveMesh CollisionPhase::primitive_mesh(const MeshSlot& slot) const {
@@ -417,6 +421,12 @@ void CollisionPhase::collider_contacts(int cloth, const Cloth& state, double h, 
                                reach_positions_.middleCols(collider.offsets.vertex, collider.num_vertices));
   }
   const Positions& at_end = reach_positions_;
+  // A collider the broad phase has not built yet (the first step, or the first after a restore):
+  // swept over this step, so that a resumed run finds the contacts the original did.
+  for (size_t k = 0; k < colliders_.size(); ++k) {
+    MeshSlot& collider = meshes_[num_cloths_ + k];
+    if (!collider.built) update_bounding_volumes(collider, x_start_, at_end);
+  }
   for (int v = 0; v < slot.num_vertices; ++v) {
     const double inverse_mass = state.model.inverse_mass[v];
     if (!(inverse_mass > 0.0)) continue;
@@ -427,7 +437,6 @@ void CollisionPhase::collider_contacts(int cloth, const Cloth& state, double h, 
     box.grow(x + Vec3::Constant(reach));
     for (size_t k = 0; k < colliders_.size(); ++k) {
       const MeshSlot& collider = meshes_[num_cloths_ + k];
-      if (!collider.built) continue;
       find_triangles_in_box(collider.bvh, box, reach_triangles_);
       double nearest = reach;
       Vec3 closest_point = Vec3::Zero();

@@ -155,8 +155,9 @@ class CollisionPhase {
   // collider at t + h), a plane through that triangle's closest point with the normal towards the
   // vertex: the solve keeps the vertex at least its thickness from the plane, or as far as it
   // starts when nearer, with stiffness `ratio` times the vertex's m / h^2. Triangles are found in
-  // the colliders' hierarchies as the last step left them, so a collider moving faster than the
-  // thickness a step can slip past one; the collision phase after the solve still catches it.
+  // the colliders' hierarchies as the last step left them (built here, swept over this step, when
+  // none is yet), so a collider moving faster than the thickness a step can slip past one; the
+  // collision phase after the solve still catches it.
   // Appends to penalty.contacts; allocates only to grow it.
   void collider_contacts(int cloth, const Cloth& state, double h, const Vec3& gravity, double ratio,
                          ContactPenalty& penalty);
@@ -197,6 +198,9 @@ class CollisionPhase {
 
   CollisionStep make_step();
   void refit_bounding_volumes();
+  // One mesh's three hierarchies over boxes swept from `from` to `to`: built when not yet built or
+  // too loose, else refitted.
+  void update_bounding_volumes(MeshSlot& slot, const Positions& from, const Positions& to);
   PrimitiveMesh primitive_mesh(const MeshSlot& slot) const;
   void query_candidates(CollisionCandidates& candidates);
   void query_escaped_candidates(CollisionCandidates& candidates);
