@@ -123,20 +123,25 @@ TEST(Checkpoint, PlasticRestShapesAreRestoredAndTheRunContinuesBitIdentically) {
   EXPECT_TRUE(resumed.cloths()[0].state.v == original.cloths()[0].state.v);
 }
 
+// An 8x8 sheet of 1 m, level at `height` above a ball of radius 0.3 m at the origin, implicit
+// Euler at h = 1/240 s, with the `collision` settings (JSON).
+World sheet_over_ball(const std::string& collision, double height) {
+  nlohmann::json document = nlohmann::json::parse(R"({
+    "solver": {"time_step": 0.004166666666666667, "integrator": "implicit_euler"},
+    "cloths": [{"name": "sheet", "grid": {"size": [1, 1], "resolution": [8, 8]},
+                "transform": {"rotation_degrees": [-90, 0, 0]}}],
+    "colliders": [{"type": "sphere", "name": "ball", "radius": 0.3}]
+  })");
+  document["collision"] = nlohmann::json::parse(collision);
+  document["cloths"][0]["transform"]["translation"] = {0.0, height, 0.0};
+  return build_world(parse_scene(document, "<inline>"));
+}
+
 // The contact penalty reads the last step's proximity pairs: a checkpoint taken while the cloth
 // lies on the sphere must carry them, or the resumed run's first step differs.
 TEST(Checkpoint, ContactPenaltyPairsAreRestoredAndTheRunContinuesBitIdentically) {
   TempDir dir("weft_checkpoint_penalty");
-  const auto make = [] {
-    const auto document = nlohmann::json::parse(R"({
-      "solver": {"time_step": 0.004166666666666667, "integrator": "implicit_euler"},
-      "collision": {"penalty_stiffness": 1000},
-      "cloths": [{"name": "sheet", "grid": {"size": [1, 1], "resolution": [8, 8]},
-                  "transform": {"translation": [0, 0.32, 0], "rotation_degrees": [-90, 0, 0]}}],
-      "colliders": [{"type": "sphere", "name": "ball", "radius": 0.3}]
-    })");
-    return build_world(parse_scene(document, "<inline>"));
-  };
+  const auto make = [] { return sheet_over_ball(R"({"penalty_stiffness": 1000})", 0.32); };
   World original = make();
   for (int step = 0; step < 60; ++step) original.step();
   ASSERT_GT(original.last_step_stats().proximity_contacts, 0) << "the test needs the cloth on the sphere";
@@ -167,16 +172,7 @@ TEST(Checkpoint, ContactPenaltyPairsAreRestoredAndTheRunContinuesBitIdentically)
 // resumed run's first step is one where those contacts act.
 TEST(Checkpoint, ColliderContactsInTheSolveContinueBitIdentically) {
   TempDir dir("weft_checkpoint_collider_contacts");
-  const auto make = [] {
-    const auto document = nlohmann::json::parse(R"({
-      "solver": {"time_step": 0.004166666666666667, "integrator": "implicit_euler"},
-      "collision": {"collider_contact_ratio": 100},
-      "cloths": [{"name": "sheet", "grid": {"size": [1, 1], "resolution": [8, 8]}, "thickness": 0.005,
-                  "transform": {"translation": [0, 0.5, 0], "rotation_degrees": [-90, 0, 0]}}],
-      "colliders": [{"type": "sphere", "name": "ball", "radius": 0.3}]
-    })");
-    return build_world(parse_scene(document, "<inline>"));
-  };
+  const auto make = [] { return sheet_over_ball(R"({"collider_contact_ratio": 100})", 0.5); };
   World original = make();
   int steps = 0;
   // The sphere's radius is 0.3 m about the origin.
