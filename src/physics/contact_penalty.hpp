@@ -10,7 +10,10 @@
 // cloth, a collider), held at their start-of-step positions. Gradient -kappa (delta - g) w_k n;
 // Hessian blocks kappa w_j w_k n n^T (PSD: kappa (delta - g) >= 0 never enters). E is C1 with a
 // piecewise-constant Hessian, so the collision response stays the guarantee of no crossing; the
-// penalty only makes the solve aware of the contacts.
+// penalty only makes the solve aware of the contacts. Two sources fill it (sim/world.cpp): the
+// last step's proximity pairs (collision.penalty_stiffness, kappa in N/m) and, before a step, a
+// plane per cloth vertex that can reach a collider in it (collision.collider_contact_ratio,
+// kappa = ratio m / h^2; CollisionPhase::collider_contacts). Each contact carries its kappa.
 #include <array>
 #include <vector>
 
