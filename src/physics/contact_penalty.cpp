@@ -51,15 +51,15 @@ void ContactPenalty::index_vertices(int num_vertices) {
   indexed_ = contacts.size();
 }
 
-double ContactPenalty::vertex_energy(int v, const Vec3& x_v, Vec3* gradient, Mat3* hessian) const {
+double ContactPenalty::vertex_energy(int v, const Positions& x, Vec3* gradient, Mat3* hessian) const {
   if (v + 1 >= static_cast<int>(vertex_start_.size())) return 0.0;
   double energy = 0.0;
   for (int k = vertex_start_[v]; k < vertex_start_[v + 1]; ++k) {
     const PenaltyContact& contact = contacts[vertex_contacts_[k]];
+    const double d = overlap(contact, x);
+    if (!(d > 0.0)) continue;
     double w = 0.0;  // the vertex's weight (summed if it fills two corners)
     for (int j = 0; j < 4; ++j) w += contact.vertices[j] == v ? contact.weights[j] : 0.0;
-    const double d = contact.thickness - contact.offset - w * contact.normal.dot(x_v);
-    if (!(d > 0.0)) continue;
     energy += 0.5 * contact.stiffness * d * d;
     if (gradient != nullptr) *gradient -= (contact.stiffness * d * w) * contact.normal;
     if (hessian != nullptr) *hessian += (contact.stiffness * w * w) * contact.normal * contact.normal.transpose();

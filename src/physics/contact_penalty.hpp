@@ -45,10 +45,10 @@ struct ContactPenalty {
   void index_vertices(int num_vertices);
   // (True also when the contacts changed since index_vertices.)
   bool coupled() const { return coupled_ || indexed_ != contacts.size(); }
-  // The energy of vertex v's contacts that hold no other vertex of the cloth, at x_v; adds their
-  // gradient and Hessian block when not null. For the Newton tail (physics/newton_tail.hpp), which
-  // runs only when nothing is coupled.
-  double vertex_energy(int v, const Vec3& x_v, Vec3* gradient, Mat3* hessian) const;
+  // The energy of vertex v's contacts that hold no other vertex of the cloth, at x; adds their
+  // gradient and Hessian block at v when not null. For the Newton tail (physics/newton_tail.hpp),
+  // which runs only when nothing is coupled.
+  double vertex_energy(int v, const Positions& x, Vec3* gradient, Mat3* hessian) const;
 
   // Energy at x; adds its gradient to `gradient` and its diagonal 3x3 blocks to `hessian` (when
   // not null). The off-diagonal blocks stay out of the sparse pattern (contacts change every

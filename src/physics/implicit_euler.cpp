@@ -294,18 +294,14 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
       best_value = value;
     }
     diverging = report_.residual > diverging_factor * best_residual && stalled ? diverging + 1 : 0;
-    if (diverging >= diverging_iterations) {
-      report_.diverged_stops = 1;
-      x = best_x_;
-      report_.residual = best_residual;
-      break;
-    }
+    if (diverging >= diverging_iterations) break;
   }
-  // A step that reached the cap diverging as above (its residual a hundredfold over the best
-  // iterate's while Phi fell by under stalled_fraction of the step's decrease since it: a wing
-  // collapsing in the last iterations) ends on the best iterate.
-  if (!report_.converged && report_.residual > diverging_factor * best_residual &&
-      best_value - value < stalled_fraction * (start_value - value)) {
+  // A step that stopped diverging, or reached the cap diverging (its residual a hundredfold over
+  // the best iterate's while Phi fell by under stalled_fraction of the step's decrease since it:
+  // a wing collapsing in the last iterations), ends on the best iterate, with its gradient.
+  const bool capped_diverging = !report_.converged && report_.residual > diverging_factor * best_residual &&
+                                best_value - value < stalled_fraction * (start_value - value);
+  if (diverging >= diverging_iterations || capped_diverging) {
     report_.diverged_stops = 1;
     x = best_x_;
     report_.residual = best_residual;

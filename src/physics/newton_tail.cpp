@@ -146,7 +146,7 @@ double NewtonTail::region_potential(const ClothModel& model, const Vec3& gravity
     const double m = model.mass[i];
     value += 0.5 * m / (h * h) * (x.col(i) - x_hat.col(i)).squaredNorm() +
              0.5 * damping * m * (x.col(i) - x_start.col(i)).squaredNorm() - m * gravity.dot(x.col(i));
-    if (penalty_ != nullptr) value += penalty_->vertex_energy(i, x.col(i), nullptr, nullptr);
+    if (penalty_ != nullptr) value += penalty_->vertex_energy(i, x, nullptr, nullptr);
   }
   return value;
 }
@@ -168,7 +168,7 @@ void NewtonTail::assemble_region(const ClothModel& model, double h, const Positi
   for (size_t k = 0; k < region_.size(); ++k) {
     const int i = region_[k];
     Mat3 block = (model.mass[i] * (1.0 / (h * h) + damping)) * Mat3::Identity();
-    if (penalty_ != nullptr) penalty_->vertex_energy(i, x.col(i), nullptr, &block);
+    if (penalty_ != nullptr) penalty_->vertex_energy(i, x, nullptr, &block);
     hessian.add_vertex_block(i, block);
     inverse_blocks_[k] = hessian.diagonal_block(i).inverse();
   }
@@ -180,7 +180,7 @@ Vec3 NewtonTail::vertex_gradient(const ClothModel& model, const Vec3& gravity, d
   const double m = model.mass[i];
   const double damping = model.mass_damping > 0.0 ? model.mass_damping / h : 0.0;
   Vec3 g = m / (h * h) * (x.col(i) - x_hat.col(i)) + damping * m * (x.col(i) - x_start.col(i)) - m * gravity;
-  if (penalty_ != nullptr) penalty_->vertex_energy(i, x.col(i), &g, nullptr);
+  if (penalty_ != nullptr) penalty_->vertex_energy(i, x, &g, nullptr);
   for (int k = triangle_starts_[i]; k < triangle_starts_[i + 1]; ++k) {
     const int t = triangle_list_[k];
     Vector9d element;

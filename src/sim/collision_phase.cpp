@@ -412,13 +412,17 @@ void CollisionPhase::collider_contacts(int cloth, const Cloth& state, double h, 
   const MeshSlot& slot = meshes_[cloth];
   const double thickness = slot.thickness;
   const double fall = h * h * gravity.norm();
-  // Moving colliders at the step's end, where the solve's positions are compared with them.
-  reach_positions_ = x_start_;  // same size every step: no allocation once grown
+  // The colliders at the step's end, where the solve's positions are compared with them (only
+  // their columns are written; the same size every step: no allocation once grown).
+  if (reach_positions_.cols() != x_start_.cols()) reach_positions_.setZero(3, x_start_.cols());
   for (size_t k = 0; k < colliders_.size(); ++k) {
     const MeshSlot& collider = meshes_[num_cloths_ + k];
-    if (!collider.moves) continue;
-    colliders_[k].motion.place(colliders_[k].rest_positions, step_start_time_ + h,
-                               reach_positions_.middleCols(collider.offsets.vertex, collider.num_vertices));
+    auto end = reach_positions_.middleCols(collider.offsets.vertex, collider.num_vertices);
+    if (collider.moves) {
+      colliders_[k].motion.place(colliders_[k].rest_positions, step_start_time_ + h, end);
+    } else {
+      end = x_start_.middleCols(collider.offsets.vertex, collider.num_vertices);
+    }
   }
   const Positions& at_end = reach_positions_;
   // A collider the broad phase has not built yet (the first step, or the first after a restore):

@@ -254,7 +254,7 @@ class CollisionPhase {
   MovedPrimitives escaped_primitives_;  // of one cloth, touching escaped vertices
   std::vector<int> box_triangles_;      // find_pairs_of's scratch
   std::vector<int> reach_triangles_;    // collider_contacts' scratch
-  Positions reach_positions_;           // collider_contacts: x_start_ with moving colliders at t + h
+  Positions reach_positions_;           // collider_contacts: the colliders' columns, at t + h
   double step_start_time_ = 0.0;        // begin_step's t
   GroupedPairs<VertexFacePair> near_vertex_faces_;  // the last proximity phase's pairs by material group
   GroupedPairs<EdgeEdgePair> near_edge_edges_;

@@ -12,6 +12,7 @@
 
 #include "io/scene_builder.hpp"
 #include "io/scene_file.hpp"
+#include "sim/energy_ledger.hpp"
 #include "sim/stability.hpp"
 #include "support/scene_invariants.hpp"
 
@@ -301,10 +302,6 @@ TEST(CollisionScenes, FrictionSlopeWithColliderContactsInTheSolveFollowsTheFrict
   expect_slides_by_the_friction_law(contacts);
 }
 
-double kinetic_energy_of(const Cloth& cloth) {
-  return 0.5 * (cloth.state.v.colwise().squaredNorm().transpose().array() * cloth.model.mass.array()).sum();
-}
-
 // The shipped 64x64 drape touches the sphere in frame 10. With the solve blind to the sphere
 // (collider_contact_ratio 0, the scene until 2026-11-28) the collision phase stopped the contact
 // vertices while the rest fell 13 mm a step, the 1% strain limit left edges between them over it,
@@ -323,7 +320,7 @@ TEST(CollisionScenes, DrapeKeepsFallingThroughItsFirstContact) {
       world.step();
       zone_vertices = std::max(zone_vertices, world.last_step_stats().impact_zone_vertices);
     }
-    energy.push_back(kinetic_energy_of(world.cloths()[0]));
+    energy.push_back(kinetic_energy(world.cloths()[0]));
   }
   EXPECT_GT(world.last_step_stats().proximity_contacts, 0) << "the cloth reached the sphere";
   EXPECT_GT(energy[9], 0.9 * energy[8]) << "frame 10 against frame 9";
