@@ -38,7 +38,7 @@ constexpr const char* stats_header =
     "vertex_face_candidates,edge_edge_candidates,proximity_contacts,ccd_impulses,impact_zone_vertices,"
     "collisions_clean,strain_limited_edges,newton_residual,unconverged_steps,external_work,dissipated_damping,"
     "dissipated_integrator,dissipated_contact,dissipated_plastic,budget_error,threads,held_pins,"
-    "edges_over_strain_limit";
+    "edges_over_strain_limit,collision_correction_max,collision_corrected_vertices";
 
 volatile std::sig_atomic_t stop_requested = 0;
 extern "C" void request_stop(int) { stop_requested = 1; }
@@ -77,7 +77,8 @@ std::string stats_line(int frame, double time, const Energies& e, double initial
       << s.residual << ',' << s.unconverged_steps << ',' << flows.external_work << ',' << flows.damping << ','
       << flows.integrator << ',' << flows.contact << ',' << flows.plastic << ',' << budget_error << ','
       << (s.steps > 0 ? static_cast<double>(s.thread_steps) / s.steps : 0.0) << ',' << s.held_pins << ','
-      << s.edges_over_strain_limit;
+      << s.edges_over_strain_limit << ',' << s.largest_collision_correction << ','
+      << s.collision_corrected_vertices;
   return out.str();
 }
 
@@ -102,6 +103,7 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
   }
   double wall = 0.0, wall_max = 0.0, newton = 0.0, newton_max = 0.0, contacts_max = 0.0;
   double unconverged = 0.0, residual_max = 0.0, budget_error_max = 0.0, held_pins = 0.0, over_limit = 0.0;
+  double correction_max = 0.0;
   for (size_t r = 1; r < table.size(); ++r) {  // frame 0 is the initial state, not simulated
     wall += table[r][column("wall_ms")];
     wall_max = std::max(wall_max, table[r][column("wall_ms")]);
@@ -111,6 +113,7 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
     unconverged += table[r][column("unconverged_steps")];
     held_pins += table[r][column("held_pins")];
     over_limit += table[r][column("edges_over_strain_limit")];
+    correction_max = std::max(correction_max, table[r][column("collision_correction_max")]);
     residual_max = std::max(residual_max, table[r][column("newton_residual")]);
     budget_error_max = std::max(budget_error_max, std::abs(table[r][column("budget_error")]));
   }
@@ -127,6 +130,7 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
       {"newton_residual_max", residual_max},
       {"held_pins", held_pins},
       {"edges_over_strain_limit", over_limit},
+      {"collision_correction_max", correction_max},
       {"contacts_max", contacts_max}};
   if (!table.empty()) {
     const std::vector<double>& first = table.front();

@@ -703,6 +703,19 @@ void CollisionPhase::count_edges_over_limit() {
   }
 }
 
+void CollisionPhase::measure_corrections(const std::vector<Cloth>& cloths) {
+  for (int c = 0; c < num_cloths_; ++c) {
+    const MeshSlot& slot = meshes_[c];
+    const Positions& integrated = cloths[c].state.x;
+    const double noticeable = 0.01 * slot.thickness;
+    for (int i = 0; i < slot.num_vertices; ++i) {
+      const double moved = (x_end_.col(slot.offsets.vertex + i) - integrated.col(i)).norm();
+      stats_.largest_correction = std::max(stats_.largest_correction, moved);
+      if (moved > noticeable) ++stats_.corrected_vertices;
+    }
+  }
+}
+
 void CollisionPhase::scatter_motion(std::vector<Cloth>& cloths) const {
   for (int c = 0; c < num_cloths_; ++c) {
     const MeshSlot& slot = meshes_[c];

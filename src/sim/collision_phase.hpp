@@ -18,6 +18,8 @@
 //   check_immovable_pairs   pairs of infinite-mass vertices only (left out of the response,
 //                           which cannot move them) tested over the final motion
 //   count_edges_over_limit  cloth edges the final motion leaves over collision.strain_limit
+//   measure_corrections     how far the phase moved the cloth vertices from the integrator's
+//                           end positions (the solve's work that the response undid or redid)
 //   scatter_motion          the corrected positions and velocities back into the cloths
 // Colliders are triangle meshes of infinite mass; kinematic ones move from their pose at t to
 // their pose at t + h over the step.
@@ -88,6 +90,9 @@ struct CollisionPhaseStats {
   int immovable_collisions = 0;  // collisions between infinite-mass vertices only (check_immovable_pairs)
   int edges_over_strain_limit = 0;  // cloth edges left over the limit (count_edges_over_limit)
   int strain_limited_edges = 0;  // edge corrections by strain limiting, summed over its sweeps
+  double largest_correction = 0.0;  // m: farthest a cloth vertex ended from the integrator's end
+                                    // position, over the steps (measure_corrections)
+  int corrected_vertices = 0;       // cloth vertices moved by more than 1% of their thickness, summed
   int bvh_rebuilds = 0;
   int rounds = 0;            // CCD + zone rounds run
   bool clean = true;         // the final motion had no collision among the last candidates (and no pin
@@ -140,6 +145,11 @@ class CollisionPhase {
   // limiter's slack of 1e-3) at the end of the step, when a limit is set: what the limiter and the
   // zones could not bring back (a zone whose pins move non-rigidly, impact_zones.hpp).
   void count_edges_over_limit();
+  // Compares the corrected end positions with the integrator's (still in `cloths`): the largest
+  // distance and the vertices moved by more than 1% of their cloth's thickness, into stats().
+  // Where the solve does not see a contact the phase undoes part of its motion every step, and
+  // the next solve starts that far from its answer (docs/performance.md).
+  void measure_corrections(const std::vector<Cloth>& cloths);
   void scatter_motion(std::vector<Cloth>& cloths) const;
 
   // After begin_step, for implicit Euler's contact penalty: the pairs the last step's proximity

@@ -252,6 +252,7 @@ void World::resolve_collisions(double h, StepStats& stats) {
   }
   phase.check_immovable_pairs();
   phase.count_edges_over_limit();
+  phase.measure_corrections(cloths_);
   phase.scatter_motion(cloths_);
   if (settings.energy_budget) {
     double energy_after = 0.0;
@@ -271,6 +272,8 @@ void World::resolve_collisions(double h, StepStats& stats) {
   stats.held_pins = totals.held_pins;
   stats.edges_over_strain_limit = totals.edges_over_strain_limit;
   stats.strain_limited_edges = totals.strain_limited_edges;
+  stats.largest_collision_correction = totals.largest_correction;
+  stats.collision_corrected_vertices = totals.corrected_vertices;
   stats.contacts = totals.proximity_contacts + totals.ccd_impulses;
   stats.collisions_clean = stats.collisions_clean && totals.clean;
 }
@@ -308,6 +311,8 @@ StepStats& StepStats::operator+=(const StepStats& step) {
   held_pins += step.held_pins;
   edges_over_strain_limit += step.edges_over_strain_limit;
   strain_limited_edges += step.strain_limited_edges;
+  largest_collision_correction = std::max(largest_collision_correction, step.largest_collision_correction);
+  collision_corrected_vertices += step.collision_corrected_vertices;
   collisions_clean = collisions_clean && step.collisions_clean;
   yielded_triangles += step.yielded_triangles;
   thread_steps += step.thread_steps;

@@ -69,6 +69,9 @@ struct StepStats {
                                     // nothing else kept cloth from passing through cloth
                                     // (collision/impact_zones.hpp); such a step is not clean
   int strain_limited_edges = 0;  // edge corrections by strain limiting (collision.strain_limit)
+  double largest_collision_correction = 0.0;  // m: farthest the collision phase moved a cloth vertex
+                                              // from where the integrator put it (max over steps)
+  int collision_corrected_vertices = 0;  // cloth vertices it moved by over 1% of their thickness
   bool collisions_clean = true;  // every sub-step ended without a detected collision (and no pin held)
   int newton_iterations = 0;     // implicit Euler, summed over cloths and sub-steps
   int linear_iterations = 0;     // conjugate-gradient iterations, summed likewise
