@@ -34,6 +34,7 @@ const Range non_negative{0.0, HUGE_VAL, false, " >= 0"};
 const Range poisson{0.0, 0.4999, false, " in [0, 0.5)"};
 const Range unit_open_closed{0.0, 1.0, true, " in (0, 1]"};
 const Range unit_closed{0.0, 1.0, false, " in [0, 1]"};
+const Range stretch_floor{0.0, 0.99, false, " in [0, 0.99]"};
 
 std::string type_name(const json& value) {
   if (value.is_number_integer() || value.is_number_unsigned()) return "integer " + value.dump();
@@ -309,6 +310,7 @@ ClothDesc read_cloth(const json& value, const std::string& path, const std::stri
     membrane.number("poisson_ratio", material.poisson_ratio, poisson);
     membrane.number("thickness", material.thickness, positive);
     membrane.number("compression_factor", material.compression_factor, unit_open_closed);
+    membrane.number("min_stretch", material.min_stretch, stretch_floor);
     membrane.number("yield_strain", cloth.yield_strain, non_negative);
     membrane.number("plastic_flow", cloth.plastic_flow, unit_closed);
     membrane.finish();
@@ -730,6 +732,7 @@ json scene_to_json(const SceneDesc& scene) {
       const MembraneMaterial& material = cloth.membrane_material;
       item["membrane"] = {{"young_modulus", material.young_modulus},   {"poisson_ratio", material.poisson_ratio},
                           {"thickness", material.thickness},           {"compression_factor", material.compression_factor},
+                          {"min_stretch", material.min_stretch},
                           {"yield_strain", cloth.yield_strain},        {"plastic_flow", cloth.plastic_flow}};
     }
     if (cloth.bending) {

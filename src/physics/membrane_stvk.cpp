@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -96,7 +97,37 @@ double membrane_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Mem
   double psi;
   Eigen::Vector3d stress;
   Eigen::Matrix3d tangent;
-  if (p.e_min >= 0.0 || p.e_max <= 0.0) {
+  // With a smallest stretch s0 (min_stretch > 0), a principal strain past e0 = (s0^2 - 1)/2 is
+  // resisted at the full stiffness again: g(t) = c t^2 + (1 - c)(t - e0)^2 for t < e0 (C1 at e0,
+  // convex), so that a triangle cannot be flattened for next to nothing (a flat wing makes a
+  // hinge's gradient grow as 1 / height).
+  const double floor = material.min_stretch > 0.0 ? 0.5 * (material.min_stretch * material.min_stretch - 1.0)
+                                                  : -std::numeric_limits<double>::infinity();
+  const auto g = [&](double t) {
+    return t >= 0.0 ? t * t : c * t * t + (t < floor ? (1.0 - c) * (t - floor) * (t - floor) : 0.0);
+  };
+  const auto dg = [&](double t) {
+    return t >= 0.0 ? 2.0 * t : 2.0 * c * t + (t < floor ? 2.0 * (1.0 - c) * (t - floor) : 0.0);
+  };
+  const auto ddg = [&](double t) { return t >= 0.0 ? 2.0 : (t < floor ? 2.0 : 2.0 * c); };
+  if (p.e_min < floor) {
+    // Spectral form as below, with g's pieces; equal principal strains take the second
+    // derivative for the divided difference.
+    const double cc = 0.5 * (1.0 + p.cos2);
+    const double ss = 0.5 * (1.0 - p.cos2);
+    const double cs = 0.5 * p.sin2;
+    psi = mu * (g(p.e_max) + g(p.e_min));
+    const double s_max = mu * dg(p.e_max);
+    const double s_min = mu * dg(p.e_min);
+    stress << s_max * cc + s_min * ss, s_max * ss + s_min * cc, sqrt2 * (s_max - s_min) * cs;
+    Eigen::Matrix3d q;
+    q << cc, ss, sqrt2 * cs, ss, cc, -sqrt2 * cs, -sqrt2 * cs, sqrt2 * cs, cc - ss;
+    const double divided = p.radius > 1e-12 * (1.0 + std::abs(p.e_min))
+                               ? 0.5 * (dg(p.e_max) - dg(p.e_min)) / p.radius
+                               : 0.5 * (ddg(p.e_max) + ddg(p.e_min));
+    const Eigen::Vector3d principal_tangent(mu * ddg(p.e_max), mu * ddg(p.e_min), mu * divided);
+    tangent.noalias() = q.transpose() * principal_tangent.asDiagonal() * q;
+  } else if (p.e_min >= 0.0 || p.e_max <= 0.0) {
     // Both principal strains on one side of zero: the split is trivial, psi_mu = k mu |E|^2.
     const double k = p.e_min >= 0.0 ? 1.0 : c;
     psi = k * mu * (a * a + d * d + 2.0 * b * b);

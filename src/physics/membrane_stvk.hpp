@@ -15,6 +15,9 @@ struct MembraneMaterial {
   double poisson_ratio = 0.3;       // in [0, 0.5)
   double thickness = 5e-4;          // m
   double compression_factor = 1.0;  // in (0, 1]: stiffness kept in compression (1 = plain StVK)
+  // In [0, 1): the principal stretch below which compression is resisted at the full stiffness
+  // again (a triangle cannot be flattened cheaply); 0: off.
+  double min_stretch = 0.0;
 };
 
 // Rest shape of one triangle, in its own 2D frame.
@@ -33,7 +36,8 @@ Eigen::Matrix2d green_strain(const Vec3& x0, const Vec3& x1, const Vec3& x2, con
 // Elastic energy rest.area * thickness * psi(E) with, for compression factor c,
 //   psi = mu (tr(E+^2) + c tr(E-^2)) + lambda/2 (tr(E)+^2 + c tr(E)-^2),
 // E+ / E- the positive / negative parts of E (principal strains split at zero), t+ = max(t, 0),
-// t- = min(t, 0), mu = Y/(2(1 + nu)), lambda = Y nu/(1 - nu^2) (plane stress). psi is C1 in E;
+// t- = min(t, 0), mu = Y/(2(1 + nu)), lambda = Y nu/(1 - nu^2) (plane stress). With min_stretch
+// s0 > 0, a principal strain e below e0 = (s0^2 - 1)/2 adds mu (1 - c)(e - e0)^2. psi is C1 in E;
 // its second derivative jumps (by the factor c) where a principal strain or tr(E) crosses 0.
 // Fills the gradient (x0, x1, x2 stacked) and the exact Hessian when they are not null.
 //

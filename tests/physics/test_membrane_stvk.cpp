@@ -78,12 +78,21 @@ double energy_of(const Vector9d& q, const MembraneRest& rest, const MembraneMate
 }
 
 // Stretch ranges of the three regimes of the compression split.
-enum class Regime { stretched, compressed, mixed };
+enum class Regime { stretched, compressed, mixed, flattened, flattened_both };
 
 void stretch_pair(Regime regime, std::mt19937& rng, double& s1, double& s2) {
   std::uniform_real_distribution<double> stretch(1.15, 1.4);
   std::uniform_real_distribution<double> squeeze(0.6, 0.85);
+  std::uniform_real_distribution<double> flatten(0.2, 0.4);  // past a min_stretch of 0.5
   switch (regime) {
+    case Regime::flattened:
+      do {
+        s1 = stretch(rng), s2 = flatten(rng);
+      } while (std::abs(0.5 * (s1 * s1 + s2 * s2) - 1.0) < 0.05);
+      break;
+    case Regime::flattened_both:
+      s1 = flatten(rng), s2 = flatten(rng);
+      break;
     case Regime::stretched:
       s1 = stretch(rng), s2 = stretch(rng);
       break;
@@ -99,11 +108,12 @@ void stretch_pair(Regime regime, std::mt19937& rng, double& s1, double& s2) {
   }
 }
 
-void check_derivatives(Regime regime, double compression_factor, unsigned seed) {
+void check_derivatives(Regime regime, double compression_factor, unsigned seed, double min_stretch = 0.0) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> normal;
   MembraneMaterial material;
   material.compression_factor = compression_factor;
+  material.min_stretch = min_stretch;
   for (int trial = 0; trial < 5; ++trial) {
     double s1, s2;
     stretch_pair(regime, rng, s1, s2);
@@ -131,7 +141,9 @@ void check_derivatives(Regime regime, double compression_factor, unsigned seed) 
     Matrix9d projected = hessian;
     project_to_psd(projected);
     const Eigen::SelfAdjointEigenSolver<Matrix9d> eigen(projected);
-    EXPECT_GE(eigen.eigenvalues().minCoeff(), -1e-10 * eigen.eigenvalues().maxCoeff());
+    // Against the unprojected Hessian's scale: a triangle flattened both ways can have almost no
+    // positive curvature left, and the projection is then round-off.
+    EXPECT_GE(eigen.eigenvalues().minCoeff(), -1e-10 * hessian.norm());
   }
 }
 
@@ -146,6 +158,41 @@ TEST(MembraneStvk, DerivativesTaylorTestSoftCompressionInEveryRegime) {
   check_derivatives(Regime::compressed, 0.1, 5);
   check_derivatives(Regime::mixed, 0.1, 6);
   check_derivatives(Regime::mixed, 0.5, 7);
+}
+
+// min_stretch 0.5: principal stretches in [0.2, 0.4] are past its Green strain -0.375 (and the
+// compressed regime's [0.6, 0.85] short of it).
+TEST(MembraneStvk, DerivativesTaylorTestWithASmallestStretch) {
+  check_derivatives(Regime::flattened, 0.01, 8, 0.5);
+  check_derivatives(Regime::flattened_both, 0.01, 9, 0.5);
+  check_derivatives(Regime::mixed, 0.01, 10, 0.5);
+  check_derivatives(Regime::compressed, 0.01, 11, 0.5);
+}
+
+// Above the smallest stretch the energy is the soft one exactly; flattening past it costs the
+// full stiffness on the excess: mu (1 - c)(e - e0)^2 more, e = (s^2 - 1)/2, e0 = (s0^2 - 1)/2,
+// for a triangle squeezed along one rest axis to stretch s (the other kept at 1).
+TEST(MembraneStvk, ASmallestStretchResistsFlatteningAtFullStiffness) {
+  MembraneMaterial soft;
+  soft.young_modulus = 1e5;
+  soft.poisson_ratio = 0.3;
+  soft.compression_factor = 0.01;
+  MembraneMaterial floored = soft;
+  floored.min_stretch = 0.5;
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  const MembraneRest rest = membrane_rest(a, b, c);
+  const double mu = soft.young_modulus / (2.0 * (1.0 + soft.poisson_ratio));
+  const double volume = rest.area * soft.thickness;
+  const double e0 = 0.5 * (0.25 - 1.0);
+  for (const double stretch : {0.9, 0.6, 0.51, 0.45, 0.3, 0.1}) {
+    const Vec3 squeezed(0, stretch, 0);
+    const double soft_energy = membrane_energy(a, b, squeezed, rest, soft, nullptr, nullptr);
+    const double floored_energy = membrane_energy(a, b, squeezed, rest, floored, nullptr, nullptr);
+    const double e = 0.5 * (stretch * stretch - 1.0);
+    const double extra = e < e0 ? mu * (1.0 - soft.compression_factor) * (e - e0) * (e - e0) * volume : 0.0;
+    EXPECT_NEAR(floored_energy - soft_energy, extra, 1e-12 * (1.0 + floored_energy)) << "stretch " << stretch;
+    if (stretch < 0.5) EXPECT_GT(floored_energy, soft_energy) << "stretch " << stretch;
+  }
 }
 
 // The projected Hessian (psd = true) is positive semi-definite in every regime, equals the exact
