@@ -62,6 +62,11 @@ void draw_material_panel(SimulationSession& session) {
           membrane.compression_factor = compression;
           changed = true;
         }
+        float smallest = static_cast<float>(membrane.min_stretch);
+        if (ImGui::SliderFloat("smallest stretch (0: off)", &smallest, 0.0f, 0.99f, "%.2f")) {
+          membrane.min_stretch = smallest;
+          changed = true;
+        }
         changed |= log_slider("membrane thickness (m)", membrane.thickness, 1e-5f, 1e-2f, "%.2e");
       }
       if (model.bending.enabled()) {

@@ -70,6 +70,7 @@ TEST(MaterialEdit, WritesEveryEnabledTermIntoTheWorld) {
   material.springs.damping[static_cast<int>(SpringKind::bend)] = 0.125;
   material.membrane.young_modulus = 5000.0;
   material.membrane.poisson_ratio = 0.2;
+  material.membrane.min_stretch = 0.5;
   material.bending_stiffness = 0.003;
   material.normal_drag = 2.0;
   material.wind = Vec3(1.0, 0.0, 0.0);
@@ -83,6 +84,7 @@ TEST(MaterialEdit, WritesEveryEnabledTermIntoTheWorld) {
   for (int s = springs.kind_begin[0]; s < springs.kind_begin[1]; ++s) EXPECT_EQ(springs.stiffness[s], 50.0);
   EXPECT_EQ(model.membrane.material.young_modulus, 5000.0);
   EXPECT_EQ(model.membrane.material.poisson_ratio, 0.2);
+  EXPECT_EQ(model.membrane.material.min_stretch, 0.5);
   EXPECT_EQ(model.bending.stiffness, 0.003);
   EXPECT_EQ(model.air_drag.normal_coefficient, 2.0);
   EXPECT_TRUE(model.air_drag.wind.isApprox(Vec3(1.0, 0.0, 0.0)));
