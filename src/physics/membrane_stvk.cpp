@@ -101,16 +101,17 @@ double membrane_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Mem
   // resisted at the full stiffness again: g(t) = c t^2 + (1 - c)(t - e0)^2 for t < e0 (C1 at e0,
   // convex), so that a triangle cannot be flattened for next to nothing (a flat wing makes a
   // hinge's gradient grow as 1 / height).
-  const double floor = material.min_stretch > 0.0 ? 0.5 * (material.min_stretch * material.min_stretch - 1.0)
-                                                  : -std::numeric_limits<double>::infinity();
+  const double e0 = material.min_stretch > 0.0
+                        ? 0.5 * (material.min_stretch * material.min_stretch - 1.0)
+                        : -std::numeric_limits<double>::infinity();
   const auto g = [&](double t) {
-    return t >= 0.0 ? t * t : c * t * t + (t < floor ? (1.0 - c) * (t - floor) * (t - floor) : 0.0);
+    return t >= 0.0 ? t * t : c * t * t + (t < e0 ? (1.0 - c) * (t - e0) * (t - e0) : 0.0);
   };
   const auto dg = [&](double t) {
-    return t >= 0.0 ? 2.0 * t : 2.0 * c * t + (t < floor ? 2.0 * (1.0 - c) * (t - floor) : 0.0);
+    return t >= 0.0 ? 2.0 * t : 2.0 * c * t + (t < e0 ? 2.0 * (1.0 - c) * (t - e0) : 0.0);
   };
-  const auto ddg = [&](double t) { return t >= 0.0 ? 2.0 : (t < floor ? 2.0 : 2.0 * c); };
-  if (p.e_min < floor) {
+  const auto ddg = [&](double t) { return t >= 0.0 ? 2.0 : (t < e0 ? 2.0 : 2.0 * c); };
+  if (p.e_min < e0) {
     // Spectral form as below, with g's pieces; equal principal strains take the second
     // derivative for the divided difference.
     const double cc = 0.5 * (1.0 + p.cos2);
