@@ -97,6 +97,20 @@ double membrane_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Mem
   double psi;
   Eigen::Vector3d stress;
   Eigen::Matrix3d tangent;
+  // Spectral derivatives (Daleckii-Krein) in the principal frame: S = diag(g'(e_i)) and
+  // C = diag(g''(e_max), g''(e_min), (g'(e_max) - g'(e_min))/(e_max - e_min)), given here as
+  // the principal stresses s_max, s_min and that diagonal, rotated into the Mandel frame.
+  const auto set_from_principal = [&](double s_max, double s_min, const Eigen::Vector3d& principal_tangent) {
+    const double cc = 0.5 * (1.0 + p.cos2);
+    const double ss = 0.5 * (1.0 - p.cos2);
+    const double cs = 0.5 * p.sin2;
+    // S = s_max v_max v_max^T + s_min v_min v_min^T.
+    stress << s_max * cc + s_min * ss, s_max * ss + s_min * cc, sqrt2 * (s_max - s_min) * cs;
+    // Mandel rotation into the principal frame (orthogonal), de_principal = q de.
+    Eigen::Matrix3d q;
+    q << cc, ss, sqrt2 * cs, ss, cc, -sqrt2 * cs, -sqrt2 * cs, sqrt2 * cs, cc - ss;
+    tangent.noalias() = q.transpose() * principal_tangent.asDiagonal() * q;
+  };
   // With a smallest stretch s0 (min_stretch > 0), a principal strain past e0 = (s0^2 - 1)/2 is
   // resisted at the full stiffness again: g(t) = c t^2 + (1 - c)(t - e0)^2 for t < e0 (C1 at e0,
   // convex), so that a triangle cannot be flattened for next to nothing (a flat wing makes a
@@ -104,30 +118,21 @@ double membrane_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Mem
   const double e0 = material.min_stretch > 0.0
                         ? 0.5 * (material.min_stretch * material.min_stretch - 1.0)
                         : -std::numeric_limits<double>::infinity();
-  const auto g = [&](double t) {
-    return t >= 0.0 ? t * t : c * t * t + (t < e0 ? (1.0 - c) * (t - e0) * (t - e0) : 0.0);
-  };
-  const auto dg = [&](double t) {
-    return t >= 0.0 ? 2.0 * t : 2.0 * c * t + (t < e0 ? 2.0 * (1.0 - c) * (t - e0) : 0.0);
-  };
-  const auto ddg = [&](double t) { return t >= 0.0 ? 2.0 : (t < e0 ? 2.0 : 2.0 * c); };
   if (p.e_min < e0) {
-    // Spectral form as below, with g's pieces; equal principal strains take the second
-    // derivative for the divided difference.
-    const double cc = 0.5 * (1.0 + p.cos2);
-    const double ss = 0.5 * (1.0 - p.cos2);
-    const double cs = 0.5 * p.sin2;
+    const auto g = [&](double t) {
+      return t >= 0.0 ? t * t : c * t * t + (t < e0 ? (1.0 - c) * (t - e0) * (t - e0) : 0.0);
+    };
+    const auto dg = [&](double t) {
+      return t >= 0.0 ? 2.0 * t : 2.0 * c * t + (t < e0 ? 2.0 * (1.0 - c) * (t - e0) : 0.0);
+    };
+    const auto ddg = [&](double t) { return t >= 0.0 ? 2.0 : (t < e0 ? 2.0 : 2.0 * c); };
     psi = mu * (g(p.e_max) + g(p.e_min));
-    const double s_max = mu * dg(p.e_max);
-    const double s_min = mu * dg(p.e_min);
-    stress << s_max * cc + s_min * ss, s_max * ss + s_min * cc, sqrt2 * (s_max - s_min) * cs;
-    Eigen::Matrix3d q;
-    q << cc, ss, sqrt2 * cs, ss, cc, -sqrt2 * cs, -sqrt2 * cs, sqrt2 * cs, cc - ss;
+    // Equal principal strains take the second derivative for the divided difference.
     const double divided = p.radius > 1e-12 * (1.0 + std::abs(p.e_min))
                                ? 0.5 * (dg(p.e_max) - dg(p.e_min)) / p.radius
                                : 0.5 * (ddg(p.e_max) + ddg(p.e_min));
-    const Eigen::Vector3d principal_tangent(mu * ddg(p.e_max), mu * ddg(p.e_min), mu * divided);
-    tangent.noalias() = q.transpose() * principal_tangent.asDiagonal() * q;
+    set_from_principal(mu * dg(p.e_max), mu * dg(p.e_min),
+                       Eigen::Vector3d(mu * ddg(p.e_max), mu * ddg(p.e_min), mu * divided));
   } else if (p.e_min >= 0.0 || p.e_max <= 0.0) {
     // Both principal strains on one side of zero: the split is trivial, psi_mu = k mu |E|^2.
     const double k = p.e_min >= 0.0 ? 1.0 : c;
@@ -136,22 +141,10 @@ double membrane_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Mem
     tangent = 2.0 * k * mu * Eigen::Matrix3d::Identity();
   } else {
     // e_max > 0 > e_min: psi_mu = mu (g(e_max) + g(e_min)), g(t) = t^2 (t > 0), c t^2 (t < 0).
-    // Spectral derivatives (Daleckii-Krein) in the principal frame: S = diag(g'(e_i)) and
-    // C = diag(g''(e_max), g''(e_min), (g'(e_max) - g'(e_min))/(e_max - e_min)). The divided
-    // difference (e_max - c e_min)/r lies in [2c, 2] because r = (e_max - e_min)/2 > |e_i|.
-    const double cc = 0.5 * (1.0 + p.cos2);
-    const double ss = 0.5 * (1.0 - p.cos2);
-    const double cs = 0.5 * p.sin2;
+    // The divided difference (e_max - c e_min)/r lies in [2c, 2] because r = (e_max - e_min)/2 > |e_i|.
     psi = mu * (p.e_max * p.e_max + c * p.e_min * p.e_min);
-    // S = s_max v_max v_max^T + s_min v_min v_min^T.
-    const double s_max = 2.0 * mu * p.e_max;
-    const double s_min = 2.0 * mu * c * p.e_min;
-    stress << s_max * cc + s_min * ss, s_max * ss + s_min * cc, sqrt2 * (s_max - s_min) * cs;
-    // Mandel rotation into the principal frame (orthogonal), de_principal = q de.
-    Eigen::Matrix3d q;
-    q << cc, ss, sqrt2 * cs, ss, cc, -sqrt2 * cs, -sqrt2 * cs, sqrt2 * cs, cc - ss;
-    const Eigen::Vector3d principal_tangent(2.0 * mu, 2.0 * mu * c, mu * (p.e_max - c * p.e_min) / p.radius);
-    tangent.noalias() = q.transpose() * principal_tangent.asDiagonal() * q;
+    set_from_principal(2.0 * mu * p.e_max, 2.0 * mu * c * p.e_min,
+                       Eigen::Vector3d(2.0 * mu, 2.0 * mu * c, mu * (p.e_max - c * p.e_min) / p.radius));
   }
   // Volumetric part lambda/2 g(tr E).
   const double trace = a + d;
