@@ -444,7 +444,7 @@ Collider read_collider(const json& value, const std::string& path, const std::st
 }
 
 // Implicit Euler's tolerance must lie below resting_start_residual() (implicit_euler.hpp), or a
-// cloth at rest never moves. Checked for the scene's own step (an adaptive run's smaller steps
+// step may end off by gravity's whole pull over it and report convergence. Checked for the scene's own step (an adaptive run's smaller steps
 // are not).
 void check_newton_tolerance(const ObjectReader& reader, const SceneDesc& scene) {
   if (scene.integrator != IntegratorKind::implicit_euler) return;
@@ -453,8 +453,8 @@ void check_newton_tolerance(const ObjectReader& reader, const SceneDesc& scene) 
   if (!(scene.implicit.newton_tolerance >= gravity_velocity) || gravity_velocity == 0.0) return;
   std::ostringstream message;
   message << std::setprecision(4) << "expected a tolerance below " << gravity_velocity
-          << " m/s, the velocity gravity adds in one step of " << h << " s (a cloth at rest would meet "
-          << "the tolerance without moving), got " << scene.implicit.newton_tolerance;
+          << " m/s, the velocity gravity adds in one step of " << h << " s (at or above it a step may end off "
+          << "by gravity's whole pull and report convergence), got " << scene.implicit.newton_tolerance;
   reader.fail("/solver/newton/tolerance", message.str());
 }
 

@@ -87,9 +87,10 @@ struct NewtonReport {
 double newton_residual(const Positions& gradient, const Eigen::VectorXd& inverse_mass, double h);
 
 // newton_residual() at the start of a step (the inertial predictor) of a cloth at rest in its rest
-// shape, under gravity alone: |gravity| h. A newton_tolerance at or above it accepts that start
-// with no iteration, so the cloth never moves while every step reports convergence; the scene
-// file refuses such a tolerance and the viewer's Solver panel warns.
+// shape, under gravity alone: |gravity| h. A newton_tolerance at or above it accepts a step whose
+// vertices are off by gravity's whole pull over it (before every step took at least one
+// iteration, a cloth at rest never moved); the scene file refuses such a tolerance and the
+// viewer's Solver panel warns.
 double resting_start_residual(const Vec3& gravity, double h);
 
 // Preallocated storage for one cloth's implicit steps; the sparsity pattern is built on first use.

@@ -48,13 +48,13 @@ void draw_solver_panel(SimulationSession& session) {
 
   if (ImGui::TreeNodeEx("Newton (implicit Euler)", ImGuiTreeNodeFlags_DefaultOpen)) {
     input_double("tolerance (m/s)", settings.implicit.newton_tolerance, 1e-12, "%.2e");
-    // At or above resting_start_residual() a cloth at rest never moves; the scene file refuses
-    // such a tolerance, here h and the tolerance change live.
+    // At or above resting_start_residual() a step may end off by gravity's whole pull; the scene
+    // file refuses such a tolerance, here h and the tolerance change live.
     const double gravity_velocity =
         resting_start_residual(settings.gravity, settings.time_step / settings.substeps);
     if (gravity_velocity > 0.0 && settings.implicit.newton_tolerance >= gravity_velocity) {
       ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.2f, 1.0f),
-                         "at or above |g| h = %.2e m/s: cloth at rest will not move", gravity_velocity);
+                         "at or above |g| h = %.2e m/s: steps may miss gravity's pull", gravity_velocity);
     }
     ImGui::SliderInt("max iterations", &settings.implicit.max_newton_iterations, 1, 100);
     int solver = settings.implicit.linear_solver == LinearSolverKind::cholesky ? 1 : 0;

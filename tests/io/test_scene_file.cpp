@@ -101,7 +101,8 @@ TEST(SceneFile, OutOfRangeValuesAreRejected) {
 
 TEST(SceneFile, ANewtonToleranceThatTheRestingStartMeetsIsRefused) {
   // At h = 1/240 gravity adds 9.81 / 240 = 0.0409 m/s a step, the residual of Newton's start;
-  // a tolerance at or above it froze the drape (0 Newton iterations, every step "converged").
+  // a tolerance at or above it froze the drape (0 Newton iterations, every step "converged"; since
+  // 2026-11-28 every step takes one iteration, and such a tolerance would stop after it).
   const std::vector<std::string> implicit = {"solver.integrator=\"implicit_euler\"",
                                              "solver.time_step=0.004166666666666667"};
   auto with = [&](const std::string& more) {

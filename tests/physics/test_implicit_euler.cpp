@@ -177,6 +177,36 @@ TEST(ImplicitEuler, ConjugateGradientSolvesFreeFallFromTheGravityGuess) {
   }
 }
 
+TEST(ImplicitEuler, AFallingClothKeepsAcceleratingWithAToleranceJustBelowGravitysPull) {
+  // The drape's tolerance (1e-2 m/s) and mass damping (0.1 /s) at h = 1/960 s: gravity's pull over
+  // a step is |g| h = 0.0102 m/s, and once the damping takes 0.1 v h off it the inertial
+  // predictor meets the tolerance (from v = 2.1 m/s). A step that accepted it dropped gravity's
+  // acceleration: the cloth glided at constant speed with every step "converged". Implicit Euler's
+  // uniform fall is v' = (v + h g) / (1 + c h), which one Newton iteration a step reaches.
+  Cloth cloth = test::spring_grid_cloth(6, 0.5, 0.01, test::spring_params(1e3, 1e2, 1.0, 0.0));
+  cloth.model.mass_damping = 0.1;
+  const Vec3 gravity(0.0, -9.81, 0.0);
+  const double h = 1.0 / 960.0;
+  ImplicitEulerSettings settings;
+  settings.newton_tolerance = 1e-2;
+  ASSERT_LT(settings.newton_tolerance, resting_start_residual(gravity, h));
+  ImplicitEulerSolver solver;
+  double expected = 0.0;  // the downward speed of implicit Euler's uniform fall
+  int iterations = 0;
+  for (int step = 0; step < 400; ++step) {
+    const NewtonReport& report = solver.step(cloth, gravity, h, settings);
+    ASSERT_TRUE(report.converged) << step;
+    iterations += report.newton_iterations;
+    expected = (expected + h * 9.81) / (1.0 + 0.1 * h);
+  }
+  EXPECT_GT(expected, 3.5);  // well past the 2.1 m/s where the predictor met the tolerance
+  for (int v = 0; v < cloth.num_vertices(); ++v) {
+    EXPECT_NEAR(-cloth.state.v(1, v), expected, 1e-9 * expected) << v;
+    EXPECT_NEAR(cloth.state.v(0, v), 0.0, 1e-9) << v;
+  }
+  EXPECT_EQ(iterations, 400);  // one a step, from the start that already met the tolerance too
+}
+
 // A small membrane cloth with hinge bending, horizontal, pinned at two corners, as a World.
 World small_hanging_cloth(double size, int resolution, double h, const std::string& linear_solver) {
   nlohmann::json scene = nlohmann::json::parse(R"({
