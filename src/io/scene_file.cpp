@@ -444,8 +444,8 @@ Collider read_collider(const json& value, const std::string& path, const std::st
 }
 
 // Implicit Euler's tolerance must lie below resting_start_residual() (implicit_euler.hpp), or a
-// step may end off by gravity's whole pull over it and report convergence. Checked for the scene's own step (an adaptive run's smaller steps
-// are not).
+// step may end off by gravity's whole pull over it and report convergence. Checked for the
+// scene's own step (an adaptive run's smaller steps are not).
 void check_newton_tolerance(const ObjectReader& reader, const SceneDesc& scene) {
   if (scene.integrator != IntegratorKind::implicit_euler) return;
   const double h = scene.time_step / scene.substeps;
