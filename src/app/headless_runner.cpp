@@ -30,6 +30,11 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 constexpr const char* checkpoint_file = "checkpoint.bin";
+// --newton-log: one row per Newton iteration of every implicit Euler step (docs/recording.md).
+constexpr const char* newton_log_file = "newton.csv";
+constexpr const char* newton_log_header =
+    "frame,step,substep,cloth,iteration,residual,above_tolerance,step_scale,linear_iterations,"
+    "restricted_iterations";
 constexpr const char* stats_header =
     "frame,time,kinetic_energy,potential_energy,gravitational_energy,elastic_energy,spring_energy,"
     "membrane_energy,bending_energy,pressure_energy,energy_dissipated,contacts,newton_iterations,"
@@ -195,6 +200,10 @@ class Run {
   EnergyFlows energy_flows_;             // summed from frame 0
   std::vector<std::string> stats_rows_;  // every stats.csv row so far, for summary.json
   CsvLog stats_log_;
+  bool log_newton_ = false;  // --newton-log, or resuming a run that kept one
+  CsvLog newton_log_;
+  std::string newton_rows_;  // the current frame's newton.csv rows, appended with it
+  void add_newton_rows(int frame, int step);
   Checkpoint checkpoint_;
 };
 
@@ -253,6 +262,9 @@ int Run::load() {
   world_ = build_world(scene_);
   world_.settings.threads = options_.threads > 0 ? options_.threads : omp_get_num_procs();
   world_.settings.adapt_threads = !options_.fixed_threads;
+  // A resumed run goes on with the log its first part kept.
+  log_newton_ = options_.newton_log || (!options_.resume_dir.empty() && fs::exists(out_ / newton_log_file));
+  world_.settings.implicit.record_iterations = log_newton_;
   scene_json_ = scene_to_json(scene_).dump();
   if (resuming) {
     const nlohmann::json saved = comparable_scene(
@@ -352,6 +364,19 @@ int Run::execute() {
   }
 }
 
+// The last step's Newton iterations as newton.csv rows (newton_log_header), kept until the frame
+// is recorded.
+void Run::add_newton_rows(int frame, int step) {
+  char row[256];
+  for (const World::NewtonLogRow& entry : world_.newton_log()) {
+    const NewtonIterationRecord& r = entry.record;
+    std::snprintf(row, sizeof row, "%d,%d,%d,%d,%d,%.6g,%d,%.6g,%d,%d\n", frame, step, entry.substep, entry.cloth,
+                  entry.iteration, r.residual, r.above_tolerance, r.step_scale, r.linear_iterations,
+                  r.restricted_iterations);
+    newton_rows_ += row;
+  }
+}
+
 int Run::record_and_step() {
   const FrameSchedule schedule = frame_schedule(scene_.fps, scene_.time_step);
   RecordingWriter recording(out_.string(), format_, scene_.frames, scene_.fps);
@@ -361,6 +386,7 @@ int Run::record_and_step() {
     write_run_json("running");
     recording.start(world_);
     stats_log_ = CsvLog::create((out_ / "stats.csv").string(), stats_header);
+    if (log_newton_) newton_log_ = CsvLog::create((out_ / newton_log_file).string(), newton_log_header);
   } else {
     frames_written_ = first_frame_;
     stats_log_ = CsvLog::reopen((out_ / "stats.csv").string(), stats_header, first_frame_ - 1, &stats_rows_);
@@ -368,6 +394,11 @@ int Run::record_and_step() {
       throw IoError((out_ / "stats.csv").string() + ": expected the rows of frames 0.." +
                     std::to_string(first_frame_ - 1) + " to resume, found " +
                     std::to_string(stats_rows_.size()));
+    }
+    if (log_newton_) {
+      const std::string path = (out_ / newton_log_file).string();
+      newton_log_ = fs::exists(path) ? CsvLog::reopen(path, newton_log_header, first_frame_ - 1)
+                                     : CsvLog::create(path, newton_log_header);
     }
     write_run_json("running");
     recording.resume(world_, first_frame_ - 1);
@@ -385,6 +416,11 @@ int Run::record_and_step() {
     stats_rows_.push_back(stats_line(frame, world_.time(), energies, initial_energy_, energy_flows_, steps,
                                      record_ms, frame == 0 ? 0.0 : ms_since(frame_start)));
     stats_log_.append(stats_rows_.back());
+    if (!newton_rows_.empty()) {
+      newton_rows_.pop_back();  // the last row's newline: append adds it
+      newton_log_.append(newton_rows_);
+      newton_rows_.clear();
+    }
     frames_written_ = frame + 1;
     if (options_.checkpoint_every > 0 && frame > 0 && frame % options_.checkpoint_every == 0) {
       write_checkpoint_now(frame);
@@ -403,6 +439,7 @@ int Run::record_and_step() {
     Instability problem;
     for (int step = 0; step < schedule.steps_per_frame && !problem.found; ++step) {
       world_.step();
+      if (log_newton_) add_newton_rows(frame, step);
       frame_steps += world_.last_step_stats();
       problem = check_state(world_, options_.limits);
       progress.update(frame - 1, step + 1, schedule.steps_per_frame);

@@ -23,6 +23,7 @@ struct HeadlessOptions {
   int checkpoint_every = 0;  // frames between checkpoints; 0: none
   std::string resume_dir;    // continue the run recorded there (from its checkpoint)
   bool scene_given = true;   // false with resume_dir: the scene of the recorded run
+  bool newton_log = false;   // DIR/newton.csv: every Newton iteration (docs/recording.md)
   StabilityLimits limits;
 };
 

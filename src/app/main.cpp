@@ -124,6 +124,8 @@ int run(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--test-contacts", test_contacts, "Viewer: draw synthetic contacts (tests the contact display)");
   app.add_flag("--quiet", headless_options.quiet, "Headless: no progress output");
+  app.add_flag("--newton-log", headless_options.newton_log,
+               "Headless: write DIR/newton.csv, one row per Newton iteration of every implicit Euler step");
   app.add_option("--threads", headless_options.threads,
                  "Solver threads (0: all cores; at most " + std::to_string(weft::max_threads) + ")")
       ->check(whole_number("threads", 0, weft::max_threads,
@@ -212,7 +214,7 @@ int run(int argc, char** argv) {
     headless_options.format_given = app.count("--format") > 0;
     return weft::run_headless(headless_options);
   }
-  for (const char* option : {"--resume", "--checkpoint-every", "--format"}) {
+  for (const char* option : {"--resume", "--checkpoint-every", "--format", "--newton-log"}) {
     if (app.count(option) > 0) {
       std::fprintf(stderr, "weft: %s needs --headless\n", option);
       return 2;

@@ -8,6 +8,19 @@
 
 namespace weft {
 
+namespace {
+
+// Free vertices whose share of the residual, h |g_i| / m_i, is above the tolerance.
+int vertices_above(const Positions& gradient, const Eigen::VectorXd& inverse_mass, double h, double tolerance) {
+  int above = 0;
+  for (Eigen::Index i = 0; i < gradient.cols(); ++i) {
+    above += h * gradient.col(i).norm() * inverse_mass[i] > tolerance ? 1 : 0;
+  }
+  return above;
+}
+
+}  // namespace
+
 double newton_residual(const Positions& gradient, const Eigen::VectorXd& inverse_mass, double h) {
   double largest = 0.0;
   for (Eigen::Index i = 0; i < gradient.cols(); ++i) {
@@ -129,6 +142,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   report_.diverged_stops = 0;
   report_.full_matrix_steps = 0;
   report_.gradient_norms.clear();
+  report_.iterations.clear();
 
   // Inertial predictor; pinned vertices keep their (zero) velocity, so they stay put.
   x_start_ = state.x;
@@ -155,6 +169,13 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   };
   report_.residual = newton_residual(gradient_, model.inverse_mass, h);
   report_.converged = report_.residual < settings.newton_tolerance;
+  const auto record_iteration = [&](double step_scale, int linear_iterations, int restricted) {
+    if (!settings.record_iterations) return;
+    report_.iterations.push_back({report_.residual,
+                                  vertices_above(gradient_, model.inverse_mass, h, settings.newton_tolerance),
+                                  step_scale, linear_iterations, restricted});
+  };
+  record_iteration(0.0, 0, 0);
   // The iterate with the smallest residual so far. Phi can keep falling by ever smaller amounts
   // while the residual grows by orders of magnitude: a hinge's wing collapsing towards zero height
   // (cheap when the membrane resists compression at 1%), where the angle's gradient grows as
@@ -189,6 +210,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   for (int iteration = 0;
        iteration < settings.max_newton_iterations && (iteration == 0 || !report_.converged); ++iteration) {
     report_.gradient_norms.push_back(gradient_vector().norm());
+    const int linear_before = report_.linear_iterations;
     // A step still unconverged after light_matrix_iterations without the hinges goes on with them:
     // where the cloth folds or slides off an edge the matrix without them can stall Newton.
     if (light_active_ && iteration == settings.light_matrix_iterations) {
@@ -279,11 +301,12 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     }
     report_.residual = newton_residual(gradient_, model.inverse_mass, h);
     report_.converged = report_.residual < settings.newton_tolerance;
+    int restricted = 0;
     if (use_tail && !report_.converged) {
       // The residual left on a few vertices: iterations on their region, then the whole cloth's
       // gradient again, so that the residual judged is the cloth's.
-      const int restricted = tail_.iterate(model, gravity, h, x_start_, x_hat_, penalty_, tail_settings,
-                                           hessian_, stencils_, x, gradient_);
+      restricted = tail_.iterate(model, gravity, h, x_start_, x_hat_, penalty_, tail_settings, hessian_, stencils_,
+                                 x, gradient_);
       use_tail = use_tail && !tail_.collapsed();  // the rest of the step iterates on the whole cloth
       if (restricted > 0) {
         report_.newton_iterations += restricted;
@@ -295,6 +318,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
         report_.converged = report_.residual < settings.newton_tolerance;
       }
     }
+    record_iteration(alpha, report_.linear_iterations - linear_before, restricted);
     const bool stalled = value_before - value < stalled_fraction * (start_value - value);
     if (report_.residual < best_residual) {
       best_residual = report_.residual;

@@ -62,6 +62,19 @@ struct ImplicitEulerSettings {
   // drape's Newton 1,743 / 1,711 / -, friction_slope's 1,319 / 1,652 / 1,975 (1,039 with the
   // hinges always in, 4,275 never), two_sheets' (30 frames) 4,728 / 4,512 / - (4,733 always in).
   int light_matrix_iterations = 6;
+  // Fills NewtonReport::iterations (weft --newton-log): one more pass over the vertices an
+  // iteration, to count those above the tolerance.
+  bool record_iterations = false;
+};
+
+// One Newton iteration of a step, as --newton-log writes it (docs/recording.md). Record 0 is the
+// step's start (the inertial predictor): its step_scale and linear_iterations are 0.
+struct NewtonIterationRecord {
+  double residual = 0.0;       // m/s, newton_residual() after the iteration
+  int above_tolerance = 0;     // free vertices whose h |g_i| / m_i is above the tolerance after it
+  double step_scale = 0.0;     // the multiple of the Newton step taken (line search; > 1 stretched)
+  int linear_iterations = 0;   // CG iterations of this iteration's solve (0 for Cholesky)
+  int restricted_iterations = 0;  // Newton tail iterations that followed it (its residual is after them)
 };
 
 // What the last step did. The step ends at the iterate with the smallest residual it reached.
@@ -79,6 +92,9 @@ struct NewtonReport {
   int full_matrix_steps = 0;            // 1 when the step began without the hinges' Hessian in the
                                         // matrix and went on with it (light_matrix_iterations)
   std::vector<double> gradient_norms;  // |grad of incremental potential| over free vertices, per iteration
+  // With ImplicitEulerSettings::record_iterations: the start, then one record per global
+  // iteration; empty otherwise.
+  std::vector<NewtonIterationRecord> iterations;
 };
 
 // The residual of the incremental potential's gradient g (N per vertex, pinned entries zero) in

@@ -52,6 +52,7 @@ Positions World::collider_positions(int collider) const {
 void World::step() {
   const auto step_start = Clock::now();
   StepStats stats;
+  newton_log_.clear();
   // Threads for our loops and for Eigen's sparse products (row-parallel, so results do not
   // depend on the count).
   thread_governor_.set_requested(settings.threads);
@@ -62,6 +63,7 @@ void World::step() {
   const double h = settings.time_step / substeps;
   collisions_.reset_stats();
   for (int substep = 0; substep < substeps; ++substep) {
+    substep_ = substep;
     auto phase_start = Clock::now();
     move_colliders(h);
     stats.move_colliders_ms += milliseconds_since(phase_start);
@@ -138,7 +140,7 @@ void World::integrate(double h, StepStats& stats) {
       }
       solvers.penalty.index_vertices(static_cast<int>(cloth.state.x.cols()));
     }
-    integrate_cloth(cloth, solvers, h, stats);
+    integrate_cloth(static_cast<int>(c), h, stats);
     if (scripted) place_scripted_pins(cloth.model.scripted_pins, time_ + h, cloth.state.x);
     if (budget) {
       switch (energy_identity()) {
@@ -166,7 +168,9 @@ EnergyIdentity World::energy_identity() const {
   return EnergyIdentity::none;
 }
 
-void World::integrate_cloth(Cloth& cloth, ClothSolvers& solvers, double h, StepStats& stats) {
+void World::integrate_cloth(int index, double h, StepStats& stats) {
+  Cloth& cloth = cloths_[index];
+  ClothSolvers& solvers = *solvers_[index];
   const bool explicit_integrator = settings.integrator == IntegratorKind::symplectic_euler ||
                                    settings.integrator == IntegratorKind::midpoint_euler_cromer ||
                                    settings.integrator == IntegratorKind::explicit_midpoint;
@@ -196,6 +200,9 @@ void World::integrate_cloth(Cloth& cloth, ClothSolvers& solvers, double h, StepS
       stats.linear_iterations += report.linear_iterations;
       stats.residual = std::max(stats.residual, report.residual);
       stats.unconverged_steps += !report.converged;
+      for (size_t k = 0; k < report.iterations.size(); ++k) {
+        newton_log_.push_back({substep_, index, static_cast<int>(k), report.iterations[k]});
+      }
       break;
     }
     case IntegratorKind::xpbd:

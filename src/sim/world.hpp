@@ -123,6 +123,15 @@ class World {
     near_pairs_restored_ = true;
   }
   const StepStats& last_step_stats() const { return stats_; }
+  // The last step's Newton iterations, one row each (every sub-step and cloth), when
+  // settings.implicit.record_iterations is on (weft --newton-log); empty otherwise.
+  struct NewtonLogRow {
+    int substep;
+    int cloth;
+    int iteration;  // 0: the step's start
+    NewtonIterationRecord record;
+  };
+  const std::vector<NewtonLogRow>& newton_log() const { return newton_log_; }
   // Contacts the collision response acted on in the last step (every sub-step).
   const std::vector<ContactRecord>& contacts() const { return collisions_.records(); }
   // The triangle mesh standing for collider k in the collision pipeline, posed at time().
@@ -153,7 +162,7 @@ class World {
   void resolve_collisions(double h, StepStats& stats);
   int update_rest_state(EnergyFlows& flows);
   EnergyIdentity energy_identity() const;
-  void integrate_cloth(Cloth& cloth, ClothSolvers& solvers, double h, StepStats& stats);
+  void integrate_cloth(int index, double h, StepStats& stats);
 
   std::vector<Cloth> cloths_;
   std::vector<std::unique_ptr<ClothSolvers>> solvers_;  // Eigen solvers do not move: held by pointer
@@ -167,6 +176,8 @@ class World {
   std::vector<Positions> external_forces_;       // one per cloth (3 x n_vertices)
   double time_ = 0.0;
   StepStats stats_;
+  std::vector<NewtonLogRow> newton_log_;  // newton_log(); allocates only to grow
+  int substep_ = 0;                      // the sub-step integrate() is in
   ThreadGovernor thread_governor_;
 };
 

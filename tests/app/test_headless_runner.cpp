@@ -145,6 +145,81 @@ TEST(HeadlessRunner, StatsCarryAnEnergyBudgetThatClosesAcrossAResume) {
   EXPECT_DOUBLE_EQ(summary["energy"]["dissipated_by"]["contact"].get<double>(), rows.back().at("dissipated_contact"));
 }
 
+TEST(HeadlessRunner, TheNewtonLogHoldsEveryIterationAndAgreesWithTheStats) {
+  // The drape at 10x10 started low, so that its steps go from free fall (one iteration) to
+  // contact (several, some restricted to the Newton tail) within 12 frames.
+  TempDir dir("weft_headless_newton_log");
+  const std::vector<std::string> run = {weft_program, "--headless", source_dir + "/scenes/drape_sphere.json",
+                                        "--quiet", "--newton-log", "--set", "cloths.0.grid.resolution=[10,10]",
+                                        "--set", "cloths.0.transform.translation=[0,0.65,0]"};
+  const fs::path out = dir.path() / "straight";
+  std::vector<std::string> straight = run;
+  straight.insert(straight.end(), {"--out", out.string(), "--frames", "12"});
+  ASSERT_EQ(run_program(straight, dir.file("straight.txt")).exit_code, 0);
+  const auto stats = read_stats(out / "stats.csv");
+  const auto log = read_stats(out / "newton.csv");
+  ASSERT_EQ(stats.size(), 13u);
+  ASSERT_FALSE(log.empty());
+  const double tolerance = 1e-2;  // the scene's solver.newton.tolerance
+  std::map<int, double> newton, linear, worst;  // per frame, from the log
+  int contact_iterations = 0;
+  for (size_t k = 0; k < log.size(); ++k) {
+    const auto& row = log[k];
+    const int frame = static_cast<int>(row.at("frame"));
+    ASSERT_GE(frame, 1);
+    EXPECT_EQ(row.at("substep"), 0.0);
+    EXPECT_EQ(row.at("cloth"), 0.0);
+    // The residual is the largest of the vertices' shares: above the tolerance exactly when some
+    // vertex is.
+    EXPECT_EQ(row.at("residual") > tolerance, row.at("above_tolerance") > 0) << "row " << k + 1;
+    if (row.at("iteration") == 0.0) {
+      EXPECT_EQ(row.at("step_scale"), 0.0);
+      EXPECT_EQ(row.at("linear_iterations"), 0.0);
+    } else {
+      // Iterations are numbered on from the step's start row.
+      ASSERT_GT(k, 0u);
+      EXPECT_EQ(row.at("iteration"), log[k - 1].at("iteration") + 1) << "row " << k + 1;
+      EXPECT_EQ(row.at("step"), log[k - 1].at("step"));
+      EXPECT_GT(row.at("step_scale"), 0.0);
+      newton[frame] += 1.0 + row.at("restricted_iterations");
+      linear[frame] += row.at("linear_iterations");
+      if (row.at("iteration") > 1.0) ++contact_iterations;
+    }
+    const bool last_of_step = k + 1 == log.size() || log[k + 1].at("iteration") == 0.0;
+    if (last_of_step) worst[frame] = std::max(worst[frame], row.at("residual"));
+  }
+  EXPECT_GT(contact_iterations, 0) << "the cloth reached the sphere";
+  for (int frame = 1; frame <= 12; ++frame) {
+    EXPECT_EQ(newton[frame], stats[frame].at("newton_iterations")) << "frame " << frame;
+    EXPECT_EQ(linear[frame], stats[frame].at("linear_iterations")) << "frame " << frame;
+    EXPECT_NEAR(worst[frame], stats[frame].at("newton_residual"), 1e-5 * stats[frame].at("newton_residual"))
+        << "frame " << frame;
+  }
+
+  // Killed at frame 6 and resumed from its checkpoint at frame 6: the same log, byte for byte.
+  const fs::path resumed = dir.path() / "resumed";
+  std::vector<std::string> first = run;
+  first.insert(first.end(), {"--out", resumed.string(), "--frames", "7", "--checkpoint-every", "6"});
+  ASSERT_EQ(run_program(first, dir.file("first.txt")).exit_code, 0);
+  std::vector<std::string> rest = run;
+  rest.insert(rest.end(), {"--resume", resumed.string(), "--frames", "12"});
+  ASSERT_EQ(run_program(rest, dir.file("rest.txt")).exit_code, 0);
+  EXPECT_EQ(testing::read_bytes(resumed / "newton.csv"), testing::read_bytes(out / "newton.csv"));
+
+  // Without the flag there is no log.
+  const fs::path plain = dir.path() / "plain";
+  const std::vector<std::string> without = {weft_program, "--headless", source_dir + "/scenes/drape_sphere.json",
+                                            "--quiet", "--frames", "1", "--set", "cloths.0.grid.resolution=[6,6]",
+                                            "--out", plain.string()};
+  ASSERT_EQ(run_program(without, dir.file("plain.txt")).exit_code, 0);
+  EXPECT_FALSE(fs::exists(plain / "newton.csv"));
+  // The viewer records nothing: the flag is refused there, before any window opens.
+  const auto viewer = run_program({weft_program, source_dir + "/scenes/drape_sphere.json", "--newton-log"},
+                                  dir.file("viewer.txt"));
+  EXPECT_EQ(viewer.exit_code, 2);
+  EXPECT_NE(viewer.error_text.find("--newton-log needs --headless"), std::string::npos) << viewer.error_text;
+}
+
 TEST(HeadlessRunner, TheThreadsColumnShowsTheThreadsTheStepsRanOn) {
   // Frame 0 ran no step (0); with the governor off every step runs on the requested count.
   TempDir dir("weft_headless_threads");
