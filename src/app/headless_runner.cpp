@@ -204,6 +204,7 @@ class Run {
   CsvLog newton_log_;
   std::string newton_rows_;  // the current frame's newton.csv rows, appended with it
   void add_newton_rows(int frame, int step);
+  void flush_newton_rows();
   Checkpoint checkpoint_;
 };
 
@@ -377,6 +378,14 @@ void Run::add_newton_rows(int frame, int step) {
   }
 }
 
+// Appends the rows kept since the last frame was recorded (none: nothing).
+void Run::flush_newton_rows() {
+  if (newton_rows_.empty()) return;
+  newton_rows_.pop_back();  // the last row's newline: append adds it
+  newton_log_.append(newton_rows_);
+  newton_rows_.clear();
+}
+
 int Run::record_and_step() {
   const FrameSchedule schedule = frame_schedule(scene_.fps, scene_.time_step);
   RecordingWriter recording(out_.string(), format_, scene_.frames, scene_.fps);
@@ -416,11 +425,7 @@ int Run::record_and_step() {
     stats_rows_.push_back(stats_line(frame, world_.time(), energies, initial_energy_, energy_flows_, steps,
                                      record_ms, frame == 0 ? 0.0 : ms_since(frame_start)));
     stats_log_.append(stats_rows_.back());
-    if (!newton_rows_.empty()) {
-      newton_rows_.pop_back();  // the last row's newline: append adds it
-      newton_log_.append(newton_rows_);
-      newton_rows_.clear();
-    }
+    flush_newton_rows();
     frames_written_ = frame + 1;
     if (options_.checkpoint_every > 0 && frame > 0 && frame % options_.checkpoint_every == 0) {
       write_checkpoint_now(frame);
@@ -458,6 +463,7 @@ int Run::record_and_step() {
                    "weft: %s. Frames 0..%d are written. Lower min_step, raise the tolerance, or use "
                    "implicit_euler.\n",
                    message, frames_written_ - 1);
+      flush_newton_rows();  // the diverging frame's iterations too: what went wrong
       write_run_json("diverged");
       write_summary("diverged", exit_diverged, {{"frame", frame}, {"time", world_.time()}, {"message", message}});
       return exit_diverged;
@@ -469,6 +475,7 @@ int Run::record_and_step() {
                    "Try a smaller solver.time_step, more solver.substeps or softer springs.\n",
                    frame, world_.time(), problem.describe().c_str(), frames_written_ - 1,
                    fs::exists(out_ / checkpoint_file) ? " and the last checkpoint is kept" : "");
+      flush_newton_rows();  // the diverging frame's iterations too: what went wrong
       write_run_json("diverged");
       write_summary(
           "diverged", exit_diverged,

@@ -213,6 +213,17 @@ TEST(HeadlessRunner, TheNewtonLogHoldsEveryIterationAndAgreesWithTheStats) {
                                             "--out", plain.string()};
   ASSERT_EQ(run_program(without, dir.file("plain.txt")).exit_code, 0);
   EXPECT_FALSE(fs::exists(plain / "newton.csv"));
+  // A run stopped by a limit writes the iterations of the frame it stopped in, which has no
+  // stats row: the falling drape passes 0.5 m/s in frame 2 (g t = 0.5 m/s at t = 0.051 s).
+  const fs::path stopped = dir.path() / "stopped";
+  const std::vector<std::string> limited = {weft_program, "--headless", source_dir + "/scenes/drape_sphere.json",
+                                            "--quiet", "--newton-log", "--max-speed", "0.5", "--set",
+                                            "cloths.0.grid.resolution=[6,6]", "--out", stopped.string()};
+  ASSERT_EQ(run_program(limited, dir.file("stopped.txt")).exit_code, 3);
+  const auto stopped_stats = read_stats(stopped / "stats.csv");
+  const auto stopped_log = read_stats(stopped / "newton.csv");
+  ASSERT_FALSE(stopped_log.empty());
+  EXPECT_EQ(stopped_log.back().at("frame"), stopped_stats.back().at("frame") + 1);
   // The viewer records nothing: the flag is refused there, before any window opens.
   const auto viewer = run_program({weft_program, source_dir + "/scenes/drape_sphere.json", "--newton-log"},
                                   dir.file("viewer.txt"));
