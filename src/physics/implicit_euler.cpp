@@ -10,13 +10,9 @@ namespace weft {
 
 namespace {
 
-// Free vertices whose share of the residual, h |g_i| / m_i, is above the tolerance.
-int vertices_above(const Positions& gradient, const Eigen::VectorXd& inverse_mass, double h, double tolerance) {
-  int above = 0;
-  for (Eigen::Index i = 0; i < gradient.cols(); ++i) {
-    above += h * gradient.col(i).norm() * inverse_mass[i] > tolerance ? 1 : 0;
-  }
-  return above;
+// Vertex i's share of the residual over h: |g_i| / m_i (0 for pinned vertices).
+double vertex_residual_rate(const Positions& gradient, const Eigen::VectorXd& inverse_mass, Eigen::Index i) {
+  return gradient.col(i).norm() * inverse_mass[i];
 }
 
 }  // namespace
@@ -24,9 +20,18 @@ int vertices_above(const Positions& gradient, const Eigen::VectorXd& inverse_mas
 double newton_residual(const Positions& gradient, const Eigen::VectorXd& inverse_mass, double h) {
   double largest = 0.0;
   for (Eigen::Index i = 0; i < gradient.cols(); ++i) {
-    largest = std::max(largest, gradient.col(i).norm() * inverse_mass[i]);
+    largest = std::max(largest, vertex_residual_rate(gradient, inverse_mass, i));
   }
   return h * largest;
+}
+
+int vertices_above_tolerance(const Positions& gradient, const Eigen::VectorXd& inverse_mass, double h,
+                             double tolerance) {
+  int above = 0;
+  for (Eigen::Index i = 0; i < gradient.cols(); ++i) {
+    above += h * vertex_residual_rate(gradient, inverse_mass, i) > tolerance ? 1 : 0;
+  }
+  return above;
 }
 
 double resting_start_residual(const Vec3& gravity, double h) { return gravity.norm() * h; }
@@ -172,7 +177,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   const auto record_iteration = [&](double step_scale, int linear_iterations, int restricted) {
     if (!settings.record_iterations) return;
     report_.iterations.push_back({report_.residual,
-                                  vertices_above(gradient_, model.inverse_mass, h, settings.newton_tolerance),
+                                  vertices_above_tolerance(gradient_, model.inverse_mass, h, settings.newton_tolerance),
                                   step_scale, linear_iterations, restricted});
   };
   record_iteration(0.0, 0, 0);

@@ -102,6 +102,11 @@ struct NewtonReport {
 // force on vertex i would cause over the step. Zero exactly at the implicit Euler solution.
 double newton_residual(const Positions& gradient, const Eigen::VectorXd& inverse_mass, double h);
 
+// How many vertices have their share h |g_i| / m_i above `tolerance`, computed as newton_residual()
+// computes it (so the count is 0 exactly when newton_residual() <= tolerance).
+int vertices_above_tolerance(const Positions& gradient, const Eigen::VectorXd& inverse_mass, double h,
+                             double tolerance);
+
 // newton_residual() at the start of a step (the inertial predictor) of a cloth at rest in its rest
 // shape, under gravity alone: |gravity| h. A newton_tolerance at or above it accepts a step whose
 // vertices are off by gravity's whole pull over it (before every step took at least one

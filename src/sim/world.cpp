@@ -63,13 +63,12 @@ void World::step() {
   const double h = settings.time_step / substeps;
   collisions_.reset_stats();
   for (int substep = 0; substep < substeps; ++substep) {
-    substep_ = substep;
     auto phase_start = Clock::now();
     move_colliders(h);
     stats.move_colliders_ms += milliseconds_since(phase_start);
 
     phase_start = Clock::now();
-    integrate(h, stats);
+    integrate(h, substep, stats);
     stats.integrate_ms += milliseconds_since(phase_start);
 
     phase_start = Clock::now();
@@ -109,7 +108,7 @@ void World::move_colliders(double /*h*/) {
   collisions_.begin_step(cloths_, time_);
 }
 
-void World::integrate(double h, StepStats& stats) {
+void World::integrate(double h, int substep, StepStats& stats) {
   for (size_t c = 0; c < cloths_.size(); ++c) {
     Cloth& cloth = cloths_[c];
     ClothSolvers& solvers = *solvers_[c];
@@ -140,7 +139,7 @@ void World::integrate(double h, StepStats& stats) {
       }
       solvers.penalty.index_vertices(static_cast<int>(cloth.state.x.cols()));
     }
-    integrate_cloth(static_cast<int>(c), h, stats);
+    integrate_cloth(static_cast<int>(c), h, substep, stats);
     if (scripted) place_scripted_pins(cloth.model.scripted_pins, time_ + h, cloth.state.x);
     if (budget) {
       switch (energy_identity()) {
@@ -168,7 +167,7 @@ EnergyIdentity World::energy_identity() const {
   return EnergyIdentity::none;
 }
 
-void World::integrate_cloth(int index, double h, StepStats& stats) {
+void World::integrate_cloth(int index, double h, int substep, StepStats& stats) {
   Cloth& cloth = cloths_[index];
   ClothSolvers& solvers = *solvers_[index];
   const bool explicit_integrator = settings.integrator == IntegratorKind::symplectic_euler ||
@@ -201,7 +200,7 @@ void World::integrate_cloth(int index, double h, StepStats& stats) {
       stats.residual = std::max(stats.residual, report.residual);
       stats.unconverged_steps += !report.converged;
       for (size_t k = 0; k < report.iterations.size(); ++k) {
-        newton_log_.push_back({substep_, index, static_cast<int>(k), report.iterations[k]});
+        newton_log_.push_back({substep, index, static_cast<int>(k), report.iterations[k]});
       }
       break;
     }

@@ -158,11 +158,11 @@ class World {
   };
 
   void move_colliders(double h);
-  void integrate(double h, StepStats& stats);
+  void integrate(double h, int substep, StepStats& stats);
   void resolve_collisions(double h, StepStats& stats);
   int update_rest_state(EnergyFlows& flows);
   EnergyIdentity energy_identity() const;
-  void integrate_cloth(int index, double h, StepStats& stats);
+  void integrate_cloth(int index, double h, int substep, StepStats& stats);
 
   std::vector<Cloth> cloths_;
   std::vector<std::unique_ptr<ClothSolvers>> solvers_;  // Eigen solvers do not move: held by pointer
@@ -177,7 +177,6 @@ class World {
   double time_ = 0.0;
   StepStats stats_;
   std::vector<NewtonLogRow> newton_log_;  // newton_log(); allocates only to grow
-  int substep_ = 0;                      // the sub-step integrate() is in
   ThreadGovernor thread_governor_;
 };
 

@@ -196,7 +196,8 @@ TEST(HeadlessRunner, TheNewtonLogHoldsEveryIterationAndAgreesWithTheStats) {
         << "frame " << frame;
   }
 
-  // Killed at frame 6 and resumed from its checkpoint at frame 6: the same log, byte for byte.
+  // Ended after frame 7 and resumed from its checkpoint at frame 6 (the log's frame 7 cut off and
+  // written again): the same log as the straight run, byte for byte.
   const fs::path resumed = dir.path() / "resumed";
   std::vector<std::string> first = run;
   first.insert(first.end(), {"--out", resumed.string(), "--frames", "7", "--checkpoint-every", "6"});
