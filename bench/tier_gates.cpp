@@ -42,7 +42,8 @@ int main(int argc, char** argv) {
     line("shape", gates.shape(), shape);
     line("clean", gates.clean(), std::to_string(gates.candidate.unclean_frames) + " frames with a violation");
     line("energy", gates.energy(),
-         "dissipated " + std::to_string(gates.candidate.flows.dissipated()) + " J of " +
+         "dissipated " + std::to_string(gates.candidate.flows.dissipated()) + " J (of which the Newton residual's " +
+             std::to_string(gates.candidate.flows.residual) + ") of " +
              std::to_string(gates.candidate.initial_energy) + " J initial, budget error " +
              std::to_string(gates.candidate.budget_error()) + " J (bound 1%)");
     std::printf("drape steps: %.2f s candidate, %.2f s reference (1 thread; not a gate)\n",

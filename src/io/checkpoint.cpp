@@ -218,7 +218,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
   }
   const EnergyFlows& flows = checkpoint.energy_flows;
   for (const double flow :
-       {flows.external_work, flows.damping, flows.integrator, flows.contact, flows.plastic}) {
+       {flows.external_work, flows.damping, flows.integrator, flows.contact, flows.plastic, flows.residual}) {
     payload.value<double>(flow);
   }
   write_file_atomically(path, [&](std::ostream& out) {
@@ -249,7 +249,7 @@ Checkpoint parse_checkpoint(const std::string& file, const std::string& path) {
   uint64_t size = 0, hash = 0;
   std::memcpy(&version, file.data() + 8, sizeof version);
   std::memcpy(&size, file.data() + 16, sizeof size);
-  if (version != checkpoint_version && version != 3 && version != 2) {
+  if (version != checkpoint_version && version != 4 && version != 3 && version != 2) {
     throw IoError(path + ": checkpoint version: expected " + std::to_string(checkpoint_version) + ", got " +
                   std::to_string(version));
   }
@@ -308,6 +308,7 @@ Checkpoint parse_checkpoint(const std::string& file, const std::string& path) {
          {&flows.external_work, &flows.damping, &flows.integrator, &flows.contact, &flows.plastic}) {
       *flow = payload.value<double>("energy flows");
     }
+    if (version >= 5) flows.residual = payload.value<double>("energy flows");
   }
   if (!payload.at_end()) throw IoError(path + ": checkpoint: unexpected bytes after the energy flows");
   return checkpoint;

@@ -15,10 +15,11 @@
 //     vec3 half_extents;
 //   uint64 contact pair count, per pair int32 kind, a, b (World::contact_history: the last
 //     step's proximity pairs, which the contact penalty of the next step reads);
-//   float64 x 5 energy flows since frame 0 (external work, damping, integrator, contact,
-//     plastic: sim/energy_ledger.hpp).
+//   float64 x 6 energy flows since frame 0 (external work, damping, integrator, contact,
+//     plastic, residual: sim/energy_ledger.hpp).
 // string: uint64 length + bytes; matrix: uint64 rows, uint64 cols, rows*cols float64 column-major.
-// Scripted pins need nothing: they follow from the time. Version 3 files (no energy flows) are
+// Scripted pins need nothing: they follow from the time. Version 4 files (five flows, before the
+// residual flow) are read with a residual of zero. Version 3 files (no energy flows) are
 // read with flows of zero, so a resumed run's budget_error carries the flows of the frames
 // before it; version 2 files (no contact pairs) are read with none; version 1 files (no membrane rest) are refused with the version they hold.
 #include <array>
@@ -31,7 +32,7 @@
 
 namespace weft {
 
-inline constexpr unsigned checkpoint_version = 4;
+inline constexpr unsigned checkpoint_version = 5;
 
 struct ClothCheckpoint {
   std::string name;

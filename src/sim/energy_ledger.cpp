@@ -21,6 +21,7 @@ EnergyFlows& EnergyFlows::operator+=(const EnergyFlows& other) {
   integrator += other.integrator;
   contact += other.contact;
   plastic += other.plastic;
+  residual += other.residual;
   return *this;
 }
 
@@ -66,12 +67,17 @@ EnergyFlows SolveLedger::implicit_euler(const Cloth& cloth, const Vec3& gravity,
   flows.integrator = 0.5 * mass_norm_squared(model.mass, dv_) + bregman;
   // grad D(x1) = -F_d(v1): the damping force's power over the step is -dx . grad D.
   flows.damping = (dissipation_gradient_.cwiseProduct(dx_)).sum();
-  // A pinned vertex's row of the incremental potential's gradient, M dv / h + grad U + grad D, is
-  // minus the pin's reaction; its work is that row times the vertex's motion.
+  // Vertex i's row of the incremental potential's gradient, r_i = M dv / h + grad U + grad D: for a
+  // pinned vertex minus the pin's reaction, whose work is external; for a free one what the solve
+  // left unbalanced, whose work the step added (the residual flow takes it out).
   for (Eigen::Index i = 0; i < dx_.cols(); ++i) {
-    if (model.inverse_mass[i] != 0.0) continue;
     const Vec3 row = (model.mass[i] / h) * dv_.col(i) + gradient_.col(i) + dissipation_gradient_.col(i);
-    flows.external_work += dx_.col(i).dot(row);
+    const double work = dx_.col(i).dot(row);
+    if (model.inverse_mass[i] == 0.0) {
+      flows.external_work += work;
+    } else {
+      flows.residual -= work;
+    }
   }
   flows.contact = penalty_end - penalty_start;
   return flows;

@@ -12,7 +12,9 @@
 //   contact        the collision phase's change of kinetic + potential energy (proximity, CCD,
 //                  friction, impact zones, strain limiting; negative where a moving collider
 //                  pushes the cloth) and the contact penalty's energy left at the step's end;
-//   plastic        the elastic energy plastic flow releases when rest shapes follow the strain.
+//   plastic        the elastic energy plastic flow releases when rest shapes follow the strain;
+//   residual       an implicit Euler solve's unconverged part: minus the work of the Newton
+//                  residual over the step (below), positive where the residual took energy out.
 //
 // The integrator's loss follows from its update rule, with U the potential (elastic, gravity and
 // the contact penalty), B_U(a; b) = U(a) - U(b) - grad U(b) . (a - b) its Bregman divergence,
@@ -20,9 +22,14 @@
 //   implicit Euler   (M dv = h F(x1, v1)):  1/2 |dv|^2_M + B_U(x0; x1)        (>= 0 for convex U)
 //   symplectic Euler (M dv = h F(x0, v0)):  1/2 |dv|^2_M - B_U(x1; x0)
 // Both come from writing 1/2 |v1|^2_M - 1/2 |v0|^2_M = v1 . M dv - 1/2 |dv|^2_M and
-// U(x1) - U(x0) with grad U at the end the force is taken at. Whatever the identity leaves over
-// (the Newton residual's work dx . g over free vertices, a phase that moves the cloth without
-// saying so) shows in the budget's error. The other integrators (midpoint Euler-Cromer,
+// U(x1) - U(x0) with grad U at the end the force is taken at. For implicit Euler that leaves, with
+// r = M dv / h + grad U(x1) + grad D(x1) the incremental potential's gradient at the step's end
+// (zero where Newton converged), the change of energy
+//   dx . r - dx . grad D(x1) - (1/2 |dv|^2_M + B_U(x0; x1)):
+// r's work over a pinned vertex is the pin's (external work); over the free vertices it is the
+// energy an unconverged solve added, booked as the residual flow (minus it), so that a capped
+// Newton's budget closes too and says what its steps put in. Whatever is left over (a phase that
+// moves the cloth without saying so) shows in the budget's error. The other integrators (midpoint Euler-Cromer,
 // explicit midpoint, XPBD, adaptive sub-steps) have no such identity here: their whole change of
 // energy in the solve, damping included, is booked as the integrator's, so their budget closes
 // by construction and says only where energy appeared.
@@ -31,7 +38,7 @@
 
 namespace weft {
 
-// Energy flows of one or more steps, J. External work goes into the cloths; the other four are
+// Energy flows of one or more steps, J. External work goes into the cloths; the other five are
 // dissipated (taken out; negative where a phase added energy).
 struct EnergyFlows {
   double external_work = 0.0;
@@ -39,7 +46,8 @@ struct EnergyFlows {
   double integrator = 0.0;
   double contact = 0.0;
   double plastic = 0.0;
-  double dissipated() const { return damping + integrator + contact + plastic; }
+  double residual = 0.0;
+  double dissipated() const { return damping + integrator + contact + plastic + residual; }
   EnergyFlows& operator+=(const EnergyFlows& other);
 };
 

@@ -130,7 +130,8 @@ TEST(HeadlessRunner, StatsCarryAnEnergyBudgetThatClosesAcrossAResume) {
   const double initial = rows[0].at("kinetic_energy") + rows[0].at("potential_energy");
   for (const auto& row : rows) {
     const double dissipated = row.at("dissipated_damping") + row.at("dissipated_integrator") +
-                              row.at("dissipated_contact") + row.at("dissipated_plastic");
+                              row.at("dissipated_contact") + row.at("dissipated_plastic") +
+                              row.at("dissipated_residual");
     EXPECT_NEAR(row.at("energy_dissipated"), dissipated, 1e-6 * std::abs(initial));
     const double error = row.at("kinetic_energy") + row.at("potential_energy") + dissipated - initial -
                          row.at("external_work");
