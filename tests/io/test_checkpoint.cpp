@@ -2,8 +2,10 @@
 // and mismatched checkpoints are refused with the file and the reason.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "core/error.hpp"
 #include "io/checkpoint.hpp"
@@ -135,6 +137,38 @@ World sheet_over_ball(const std::string& collision, double height) {
   document["collision"] = nlohmann::json::parse(collision);
   document["cloths"][0]["transform"]["translation"] = {0.0, height, 0.0};
   return build_world(parse_scene(document, "<inline>"));
+}
+
+// The energy flows since frame 0 travel with the checkpoint, so a resumed run's budget carries
+// them. A version 4 file (five flows, before the residual flow of 2026-11-29) reads with a
+// residual of zero: rebuilt here from this version's bytes without the last flow.
+TEST(Checkpoint, EnergyFlowsRoundTripAndAVersionFourFileReadsWithoutTheResidualFlow) {
+  TempDir dir("weft_checkpoint_flows");
+  Checkpoint checkpoint = capture_checkpoint(small_world("implicit_euler", false), 3, "{}", 0.5);
+  checkpoint.energy_flows = EnergyFlows{0.25, 0.5, 1.5, -2.0, 0.125, -0.75};
+  write_checkpoint(dir.file("v5.bin"), checkpoint);
+  const Checkpoint read = read_checkpoint(dir.file("v5.bin"));
+  EXPECT_EQ(read.energy_flows.external_work, 0.25);
+  EXPECT_EQ(read.energy_flows.damping, 0.5);
+  EXPECT_EQ(read.energy_flows.integrator, 1.5);
+  EXPECT_EQ(read.energy_flows.contact, -2.0);
+  EXPECT_EQ(read.energy_flows.plastic, 0.125);
+  EXPECT_EQ(read.energy_flows.residual, -0.75);
+
+  std::ifstream in(dir.file("v5.bin"), std::ios::binary);
+  const std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  constexpr size_t header = 8 + 4 + 4 + 8;  // magic, version, reserved, payload size
+  const std::string payload = file.substr(header, file.size() - header - 8 - 8);  // less the residual and the hash
+  std::string v4 = file.substr(0, header) + payload;
+  const uint32_t version = 4;
+  const uint64_t size = payload.size(), hash = checkpoint_checksum(payload);
+  v4.replace(8, sizeof version, reinterpret_cast<const char*>(&version), sizeof version);
+  v4.replace(16, sizeof size, reinterpret_cast<const char*>(&size), sizeof size);
+  v4.append(reinterpret_cast<const char*>(&hash), sizeof hash);
+  const Checkpoint old = parse_checkpoint(v4, "v4.bin");
+  EXPECT_EQ(old.energy_flows.plastic, 0.125);
+  EXPECT_EQ(old.energy_flows.residual, 0.0);
+  EXPECT_TRUE(old.cloths[0].x == read.cloths[0].x);
 }
 
 // The contact penalty reads the last step's proximity pairs: a checkpoint taken while the cloth
