@@ -16,7 +16,8 @@ import statistics
 import sys
 from pathlib import Path
 
-SIMULATORS = ("weft", "bullet", "blender")
+SIMULATORS = ("weft", "weft_fast", "bullet", "blender")  # weft_fast: scenes/drape_sphere_fast.json
+WEFT_TIERS = ("weft", "weft_fast")
 SPHERE_RADIUS = 0.5
 
 CSV_COLUMNS = ("simulator", "threads", "N", "run", "status", "exit_code", "vertices", "triangles",
@@ -72,7 +73,7 @@ def read_run(folder):
         row["peak_rss_mb"] = round(float(run["peak_rss_kb"]) / 1024.0, 1)
     if row["status"] != "ok":
         return row
-    if row["simulator"] == "weft":
+    if row["simulator"] in WEFT_TIERS:
         stepping = weft_stepping(folder / "weft")
     else:
         stepping = harness_stepping(folder / "stdout.txt")
@@ -122,13 +123,13 @@ def group_medians(rows):
     return medians
 
 
-def speed_up(medians, key):
-    """Weft's speed-up over a peer's configuration: Weft at the same thread count (Bullet runs
-    with 1 thread, Blender with the counts asked for)."""
+def speed_up(medians, key, tier="weft"):
+    """A Weft tier's speed-up over a peer's configuration: the tier at the same thread count
+    (Bullet runs with 1 thread, Blender with the counts asked for)."""
     simulator, threads, n = key
-    weft = medians.get(("weft", threads, n))
+    weft = medians.get((tier, threads, n))
     peer = medians[key]
-    if simulator == "weft" or not weft or not weft["wall_per_sim_s"] or not peer["wall_per_sim_s"]:
+    if simulator in WEFT_TIERS or not weft or not weft["wall_per_sim_s"] or not peer["wall_per_sim_s"]:
         return None
     return peer["wall_per_sim_s"] / weft["wall_per_sim_s"]
 
@@ -146,11 +147,12 @@ def write_markdown(path, medians, machine):
     lines += ["Medians over the runs that finished. Wall time covers stepping only (no start-up, scene "
               "build or writing). Heights, vertices inside the sphere and intersecting triangle pairs are "
               "measured on each final mesh by `weft_check_mesh`. Speed-up: the peer's wall time over "
-              "Weft's at the same thread count.", "",
+              "Weft's at the same thread count (weft: the drape as shipped; weft_fast: Weft's fast tier, "
+              "scenes/drape_sphere_fast.json, when it ran).", "",
               "| simulator | threads | N | vertices | runs ok | wall s / sim s | ms / step (steps) | "
               "peak RSS MB | final min height | final max height | verts inside sphere >1 cm (any) | "
-              "intersecting pairs | Weft speed-up |",
-              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+              "intersecting pairs | Weft speed-up | fast tier speed-up |",
+              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for key, m in medians.items():
         simulator, threads, n = key
         if m["finished"] == 0:
@@ -159,12 +161,13 @@ def write_markdown(path, medians, machine):
             wall = number(m["wall_per_sim_s"])
         ok = f"{m['finished']}/{m['runs']}" + (f" ({m['not_ok']})" if m["not_ok"] else "")
         up = speed_up(medians, key)
+        fast_up = speed_up(medians, key, "weft_fast")
         lines.append(
             f"| {simulator} | {threads} | {n} | {number(m['vertices'], 0)} | {ok} | {wall} | "
             f"{number(m['ms_per_step'])} ({number(m['steps'], 0)}) | {number(m['peak_rss_mb'], 0)} | "
             f"{number(m['min_y'])} | {number(m['max_y'])} | {number(m['inside_1cm'], 0)} "
             f"({number(m['inside_any'], 0)}) | {number(m['intersecting_pairs'], 0)} | "
-            f"{'—' if up is None else f'{up:.2f}x'} |")
+            f"{'—' if up is None else f'{up:.2f}x'} | {'—' if fast_up is None else f'{fast_up:.2f}x'} |")
 
     # The headline pairs: Weft 1 thread vs Bullet and Blender 1 thread, Weft 2 threads vs Blender 2.
     pairs = (("Weft 1 thread vs Bullet (1 thread)", ("bullet", 1)),
@@ -174,12 +177,16 @@ def write_markdown(path, medians, machine):
     lines += ["", "Weft's speed-up (peer wall time / Weft wall time; above 1: Weft is faster):", "",
               "| comparison | " + " | ".join(f"N = {n}" for n in sizes) + " |",
               "|---|" + "---:|" * len(sizes)]
-    for label, (simulator, threads) in pairs:
-        cells = []
-        for n in sizes:
-            up = speed_up(medians, (simulator, threads, n)) if (simulator, threads, n) in medians else None
-            cells.append("—" if up is None else f"{up:.2f}x")
-        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    tiers = [tier for tier in WEFT_TIERS if any(key[0] == tier for key in medians)]
+    for tier in tiers:
+        for label, (simulator, threads) in pairs:
+            cells = []
+            for n in sizes:
+                key = (simulator, threads, n)
+                up = speed_up(medians, key, tier) if key in medians else None
+                cells.append("—" if up is None else f"{up:.2f}x")
+            name = label if tier == "weft" else label.replace("Weft", "Weft's fast tier", 1)
+            lines.append(f"| {name} | " + " | ".join(cells) + " |")
     path.write_text("\n".join(lines) + "\n")
 
 
@@ -200,7 +207,7 @@ def plot_time_vs_vertices(path, medians, pyplot):
         if m["wall_per_sim_s"] and m["vertices"]:
             lines.setdefault((simulator, threads), []).append((m["vertices"], m["wall_per_sim_s"]))
     figure, axes = pyplot.subplots(figsize=(7, 5))
-    colours = {"weft": "tab:blue", "bullet": "tab:orange", "blender": "tab:green"}
+    colours = {"weft": "tab:blue", "weft_fast": "tab:purple", "bullet": "tab:orange", "blender": "tab:green"}
     for (simulator, threads), points in sorted(lines.items()):
         points.sort()
         vertices = [p[0] for p in points]

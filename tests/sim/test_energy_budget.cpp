@@ -180,6 +180,7 @@ TEST(EnergyBudget, EveryShippedSceneClosesWithinOnePercent) {
   const std::vector<std::pair<std::string, std::vector<std::string>>> scenes = {
       {"default", {}},
       {"drape_sphere", {"cloths.0.grid.resolution=[16,16]", "cloths.0.transform.translation=[0,0.65,0]"}},
+      {"drape_sphere_fast", {"cloths.0.grid.resolution=[16,16]", "cloths.0.transform.translation=[0,0.65,0]"}},
       {"fast_drop", {"cloths.0.grid.resolution=[16,16]"}},
       {"friction_slope", {"cloths.0.grid.resolution=[10,10]"}},
       {"soft_balls", {}},
