@@ -252,11 +252,14 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     // if the residual says otherwise, the next iteration assembles the Hessian first.
     const double slope = gradient_vector().dot(dx_);
     const bool last_step = dx_.lpNorm<Eigen::Infinity>() < settings.newton_tolerance * h;
-    assembled = !last_step;
+    // Nor is the Hessian needed after the cap's last iteration: no solve follows it (two of a
+    // capped step's three assemblies are used at max_newton_iterations = 2).
+    const bool final_iteration = iteration + 1 == settings.max_newton_iterations;
+    assembled = !last_step && !final_iteration;
     const auto evaluate_accepted = [&](const Positions& point) {
-      return last_step ? incremental_potential(model, gravity, point, h, &gradient_, /*assemble=*/false,
-                                               /*project=*/false)
-                       : evaluate_for_newton(point);
+      return assembled ? evaluate_for_newton(point)
+                       : incremental_potential(model, gravity, point, h, &gradient_, /*assemble=*/false,
+                                               /*project=*/false);
     };
     const double value_before = value;
     double alpha = 1.0;
