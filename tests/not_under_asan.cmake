@@ -22,5 +22,6 @@ set_tests_properties(
   # ~1 min each in release: the 64x64 drape in two or three settings (and three hanging cloths
   # settled for 6 s); the CollisionScenes and EnergyBudget tests run the same phases on the drape.
   TierGates.TheShippedDrapeSettingsPassEveryGate
+  TierGates.TheFastTierPassesEveryGate
   TierGates.CandidatesThatShouldFailDo
   PROPERTIES LABELS not_under_asan)

@@ -501,11 +501,17 @@ int Run::record_and_step() {
   const int unconverged_steps = totals["unconverged_steps"].get<int>();
   const double worst_residual = totals["newton_residual_max"].get<double>();
   if (unconverged_steps > 0) {
+    // The energy the unconverged steps left (the residual's work, booked by the energy ledger).
+    const double residual_work =
+        totals.contains("energy") ? totals["energy"]["dissipated_by"].value("residual", 0.0) : 0.0;
     std::fprintf(stderr,
                  "weft: %d implicit Euler steps ended unconverged (largest residual %.3g m/s against the "
-                 "tolerance %.3g m/s); stats.csv has them per frame. Raise solver.newton.max_iterations or "
-                 "use solver.newton.linear_solver \"cholesky\".\n",
-                 unconverged_steps, worst_residual, scene_.implicit.newton_tolerance);
+                 "tolerance %.3g m/s; dissipated_residual %.3g J, negative where they added energy); stats.csv "
+                 "has them per frame. Raise solver.newton.max_iterations (now %d) or use "
+                 "solver.newton.linear_solver \"cholesky\".\n",
+                 unconverged_steps, worst_residual, scene_.implicit.newton_tolerance,
+                 residual_work,
+                 scene_.implicit.max_newton_iterations);
   }
   const int held_pins = totals["held_pins"].get<int>();
   if (held_pins > 0) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <thread>
@@ -109,6 +110,13 @@ TEST(CheckpointResume, TheUnconvergedCountCoversTheWholeRun) {
   EXPECT_NE(resumed.error_text.find("weft: " + std::to_string(total) + " implicit Euler steps ended unconverged"),
             std::string::npos)
       << resumed.error_text;
+  // It says what the unconverged steps did to the energy (the residual flow over the whole run)
+  // and what the cap is.
+  char residual[64];
+  std::snprintf(residual, sizeof residual, "dissipated_residual %.3g J",
+                read_json(out / "summary.json")["energy"]["dissipated_by"]["residual"].get<double>());
+  EXPECT_NE(resumed.error_text.find(residual), std::string::npos) << resumed.error_text;
+  EXPECT_NE(resumed.error_text.find("solver.newton.max_iterations (now 2)"), std::string::npos) << resumed.error_text;
 }
 
 // A checkpoint written before a scene key existed (here `bending.model`, added 2026-11-26) resumes:
