@@ -46,6 +46,8 @@ CONFIGS = [
     ("h 1/60, tolerance 1e-2", {"solver.time_step": 1 / 60}),
     ("h 1/240, 2 Newton iterations a step", {"solver.newton.max_iterations": 2}),
     ("h 1/120, 2 Newton iterations a step", {"solver.time_step": 1 / 120, "solver.newton.max_iterations": 2}),
+    ("fast tier (drape_sphere_fast): h 1/120, 2 Newton iterations, 5% limit",
+     {"solver.time_step": 1 / 120, "solver.newton.max_iterations": 2, "collision.strain_limit": 0.05}),
 ]
 
 
@@ -96,7 +98,7 @@ def peer_costs(results_csv, resolution):
     runs = {}
     with Path(results_csv).open() as f:
         for row in csv.DictReader(f):
-            if row["simulator"] == "weft" or row["status"] != "ok" or int(row["N"]) != resolution:
+            if row["simulator"].startswith("weft") or row["status"] != "ok" or int(row["N"]) != resolution:
                 continue
             label = f"{row['simulator'].capitalize()}, {row['threads']} thread{'s' if row['threads'] != '1' else ''}"
             runs.setdefault(label, []).append(float(row["wall_per_sim_s"]))
