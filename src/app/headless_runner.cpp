@@ -509,8 +509,7 @@ int Run::record_and_step() {
                  "tolerance %.3g m/s; dissipated_residual %.3g J, negative where they added energy); stats.csv "
                  "has them per frame. Raise solver.newton.max_iterations (now %d) or use "
                  "solver.newton.linear_solver \"cholesky\".\n",
-                 unconverged_steps, worst_residual, scene_.implicit.newton_tolerance,
-                 residual_work,
+                 unconverged_steps, worst_residual, scene_.implicit.newton_tolerance, residual_work,
                  scene_.implicit.max_newton_iterations);
   }
   const int held_pins = totals["held_pins"].get<int>();

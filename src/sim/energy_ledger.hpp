@@ -29,10 +29,10 @@
 // r's work over a pinned vertex is the pin's (external work); over the free vertices it is the
 // energy an unconverged solve added, booked as the residual flow (minus it), so that a capped
 // Newton's budget closes too and says what its steps put in. Whatever is left over (a phase that
-// moves the cloth without saying so) shows in the budget's error. The other integrators (midpoint Euler-Cromer,
-// explicit midpoint, XPBD, adaptive sub-steps) have no such identity here: their whole change of
-// energy in the solve, damping included, is booked as the integrator's, so their budget closes
-// by construction and says only where energy appeared.
+// moves the cloth without saying so) shows in the budget's error. The other integrators (midpoint
+// Euler-Cromer, explicit midpoint, XPBD, adaptive sub-steps) have no such identity here: their
+// whole change of energy in the solve, damping included, is booked as the integrator's, so their
+// budget closes by construction and says only where energy appeared.
 #include "physics/cloth.hpp"
 #include "physics/contact_penalty.hpp"
 

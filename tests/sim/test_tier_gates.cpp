@@ -1,11 +1,12 @@
-// The drape scene's shipped settings (a 2% strain limit) and the fast tier (scenes/
-// drape_sphere_fast.json) against the reference tier (no tight limit) through the quality gates of
-// issue 27 (support/tier_gates.hpp): the settings that make the drape faster must keep passing
-// them. Candidates the gates must reject show that they can fail: a capped solve whose residual's
-// work went unbooked (energy), and twice the step with a 1% limit and the solve blind to the
-// sphere (collider_contact_ratio 0), whose 64x64 skirt locks out like an umbrella (shape). With the collider contacts in the solve h = 1/120 s no longer locks (its
-// final mean height 13 mm from the reference's at the 1% limit), nor with the shipped 2% limit
-// even without them (9 mm; 2026-11-28).
+// The drape scene's shipped settings (a 2% strain limit) and the fast tier
+// (scenes/drape_sphere_fast.json) against the reference tier (no tight limit) through the quality
+// gates of issue 27 (support/tier_gates.hpp): the settings that make the drape faster must keep
+// passing them. Candidates the gates must reject show that they can fail: a capped solve whose
+// residual's work went unbooked (energy), and twice the step with a 1% limit and the solve blind
+// to the sphere (collider_contact_ratio 0), whose 64x64 skirt locks out like an umbrella (shape).
+// With the collider contacts in the solve h = 1/120 s no longer locks (its final mean height
+// 13 mm from the reference's at the 1% limit), nor with the shipped 2% limit even without them
+// (9 mm; 2026-11-28).
 #include <gtest/gtest.h>
 
 #include <cmath>
