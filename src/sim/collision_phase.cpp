@@ -431,7 +431,18 @@ void CollisionPhase::collider_contacts(int cloth, const Cloth& state, double h, 
     MeshSlot& collider = meshes_[num_cloths_ + k];
     if (!collider.built) update_bounding_volumes(collider, x_start_, at_end);
   }
+  // One slot a vertex and collider, filled in parallel (each thread with its own triangle list),
+  // then appended in vertex order: the same contacts in the same order on any thread count.
+  const int num_colliders = static_cast<int>(colliders_.size());
+  const size_t num_slots = static_cast<size_t>(slot.num_vertices) * num_colliders;
+  if (reach_slots_.size() < num_slots) reach_slots_.resize(num_slots);
+  if (reach_found_.size() < num_slots) reach_found_.resize(num_slots);
+  const int threads = std::max(1, omp_get_max_threads());
+  if (static_cast<int>(reach_triangles_.size()) < threads) reach_triangles_.resize(threads);
+#pragma omp parallel for schedule(static) if (slot.num_vertices > 1024)
   for (int v = 0; v < slot.num_vertices; ++v) {
+    std::vector<int>& triangles = reach_triangles_[omp_get_thread_num()];
+    for (int k = 0; k < num_colliders; ++k) reach_found_[static_cast<size_t>(v) * num_colliders + k] = 0;
     const double inverse_mass = state.model.inverse_mass[v];
     if (!(inverse_mass > 0.0)) continue;
     const Vec3 x = state.state.x.col(v);
@@ -439,12 +450,12 @@ void CollisionPhase::collider_contacts(int cloth, const Cloth& state, double h, 
     Aabb box;
     box.grow(x - Vec3::Constant(reach));
     box.grow(x + Vec3::Constant(reach));
-    for (size_t k = 0; k < colliders_.size(); ++k) {
+    for (int k = 0; k < num_colliders; ++k) {
       const MeshSlot& collider = meshes_[num_cloths_ + k];
-      find_triangles_in_box(collider.bvh, box, reach_triangles_);
+      find_triangles_in_box(collider.bvh, box, triangles);
       double nearest = reach;
       Vec3 closest_point = Vec3::Zero();
-      for (const int t : reach_triangles_) {
+      for (const int t : triangles) {
         const auto corners = collider.bvh.triangles().col(t);
         const PointTriangleClosest closest =
             point_triangle_closest(x, at_end.col(corners[0]), at_end.col(corners[1]), at_end.col(corners[2]));
@@ -456,10 +467,14 @@ void CollisionPhase::collider_contacts(int cloth, const Cloth& state, double h, 
       }
       if (!(nearest < reach) || !(nearest > 1e-9 * thickness)) continue;
       const Vec3 normal = (x - closest_point) / nearest;
-      PenaltyContact contact{{v, -1, -1, -1}, {1.0, 0.0, 0.0, 0.0}, normal, -normal.dot(closest_point),
-                             std::min(thickness, nearest), ratio / (inverse_mass * h * h)};
-      penalty.contacts.push_back(contact);
+      const size_t at = static_cast<size_t>(v) * num_colliders + k;
+      reach_slots_[at] = PenaltyContact{{v, -1, -1, -1}, {1.0, 0.0, 0.0, 0.0}, normal, -normal.dot(closest_point),
+                                        std::min(thickness, nearest), ratio / (inverse_mass * h * h)};
+      reach_found_[at] = 1;
     }
+  }
+  for (size_t at = 0; at < num_slots; ++at) {
+    if (reach_found_[at]) penalty.contacts.push_back(reach_slots_[at]);
   }
 }
 

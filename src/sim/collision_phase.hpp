@@ -263,7 +263,9 @@ class CollisionPhase {
   std::vector<char> escaped_flags_;     // per vertex
   MovedPrimitives escaped_primitives_;  // of one cloth, touching escaped vertices
   std::vector<int> box_triangles_;      // find_pairs_of's scratch
-  std::vector<int> reach_triangles_;    // collider_contacts' scratch
+  std::vector<std::vector<int>> reach_triangles_;  // collider_contacts' scratch, one a thread
+  std::vector<PenaltyContact> reach_slots_;  // collider_contacts: a vertex's contact with each collider
+  std::vector<char> reach_found_;            // ... and whether it has one
   Positions reach_positions_;           // collider_contacts: the colliders' columns, at t + h
   double step_start_time_ = 0.0;        // begin_step's t
   GroupedPairs<VertexFacePair> near_vertex_faces_;  // the last proximity phase's pairs by material group
