@@ -34,6 +34,12 @@ double potential_energy(const Cloth& cloth, const Vec3& gravity) {
 void SolveLedger::begin(const Cloth& cloth, const Vec3& gravity, bool need_gradient) {
   x0_ = cloth.state.x;
   v0_ = cloth.state.v;
+  const bool carried = carried_ && !need_gradient && gravity == carried_gravity_;
+  carried_ = false;
+  if (carried) {
+    potential_start_ = carried_potential_;
+    return;
+  }
   Positions* gradient = nullptr;
   if (need_gradient) {
     gradient_.setZero(3, cloth.state.x.cols());
@@ -41,6 +47,12 @@ void SolveLedger::begin(const Cloth& cloth, const Vec3& gravity, bool need_gradi
   }
   potential_start_ =
       evaluate_potential(cloth.model, gravity, cloth.state.x, gradient, nullptr, HessianStencils{}, false);
+}
+
+void SolveLedger::carry_potential(double potential, const Vec3& gravity) {
+  carried_ = true;
+  carried_potential_ = potential;
+  carried_gravity_ = gravity;
 }
 
 EnergyFlows SolveLedger::implicit_euler(const Cloth& cloth, const Vec3& gravity, double h,

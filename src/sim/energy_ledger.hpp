@@ -63,8 +63,15 @@ double potential_energy(const Cloth& cloth, const Vec3& gravity);
 // One cloth's solve phase: the state before the integrator runs, then the flows once it has.
 class SolveLedger {
  public:
-  // Records x0, v0 and U(x0) (with grad U(x0) for symplectic Euler, `need_gradient`).
+  // Records x0, v0 and U(x0) (with grad U(x0) for symplectic Euler, `need_gradient`). U(x0) is
+  // the carried potential when one is held for this gravity and no gradient is asked for.
   void begin(const Cloth& cloth, const Vec3& gravity, bool need_gradient);
+  // U at the cloth's positions as the collision phase left them (World measures it there for the
+  // contact flow): the next begin() takes it instead of evaluating U again at the same positions,
+  // unless forget_carried_potential() came in between. begin() forgets it either way; World
+  // forgets it on every access that can change a cloth between steps.
+  void carry_potential(double potential, const Vec3& gravity);
+  void forget_carried_potential() { carried_ = false; }
   // Flows of an implicit Euler step from the recorded start to the cloth's state; `penalty`
   // as the solver saw it (null or inactive: none).
   EnergyFlows implicit_euler(const Cloth& cloth, const Vec3& gravity, double h, const ContactPenalty* penalty);
@@ -83,6 +90,9 @@ class SolveLedger {
   Positions dissipation_gradient_;
   double potential_start_ = 0.0;
   double potential_end_ = 0.0;
+  bool carried_ = false;
+  double carried_potential_ = 0.0;
+  Vec3 carried_gravity_ = Vec3::Zero();
 };
 
 }  // namespace weft

@@ -41,6 +41,11 @@ void World::add_collider(Collider collider) {
   collision_meshes_stale_ = true;
 }
 
+std::vector<Cloth>& World::cloths() {
+  for (const std::unique_ptr<ClothSolvers>& solvers : solvers_) solvers->ledger.forget_carried_potential();
+  return cloths_;
+}
+
 Positions World::collider_positions(int collider) const {
   const Positions& rest = collider_surfaces_[collider].positions;
   Positions positions(3, rest.cols());
@@ -127,6 +132,8 @@ void World::integrate(double h, int substep, StepStats& stats) {
     if (budget) {
       stats.energy_flows.external_work += kinetic_energy(cloth) - kinetic_before;
       solvers.ledger.begin(cloth, settings.gravity, energy_identity() == EnergyIdentity::symplectic_euler);
+    } else {
+      solvers.ledger.forget_carried_potential();  // the cloth moves on unmeasured
     }
     solvers.penalty.contacts.clear();
     if (settings.collision.enabled && settings.integrator == IntegratorKind::implicit_euler) {
@@ -214,8 +221,10 @@ void World::integrate_cloth(int index, double h, int substep, StepStats& stats) 
 // The elastic energy the flow releases is the plastic term of the energy budget.
 int World::update_rest_state(EnergyFlows& flows) {
   int yielded = 0;
-  for (Cloth& cloth : cloths_) {
+  for (size_t c = 0; c < cloths_.size(); ++c) {
+    Cloth& cloth = cloths_[c];
     if (cloth.model.membrane.plastic()) {
+      solvers_[c]->ledger.forget_carried_potential();  // rest shapes may flow: U changes
       const double before = settings.energy_budget ? potential_energy(cloth, settings.gravity) : 0.0;
       yielded += apply_membrane_plasticity(cloth.model.membrane, cloth.model.triangles, cloth.state.x);
       if (settings.energy_budget) flows.plastic += before - potential_energy(cloth, settings.gravity);
@@ -262,7 +271,11 @@ void World::resolve_collisions(double h, StepStats& stats) {
   phase.scatter_motion(cloths_);
   if (settings.energy_budget) {
     double energy_after = 0.0;
-    for (const Cloth& cloth : cloths_) energy_after += kinetic_energy(cloth) + potential_energy(cloth, settings.gravity);
+    for (size_t c = 0; c < cloths_.size(); ++c) {
+      const double potential = potential_energy(cloths_[c], settings.gravity);
+      energy_after += kinetic_energy(cloths_[c]) + potential;
+      solvers_[c]->ledger.carry_potential(potential, settings.gravity);  // the next step starts here
+    }
     stats.energy_flows.contact += energy_before - energy_after;
   }
 

@@ -104,7 +104,9 @@ class World {
   void step();
 
   double time() const { return time_; }
-  std::vector<Cloth>& cloths() { return cloths_; }
+  // Live edits (the viewer's sliders, a checkpoint's restore) go through this, so it also drops
+  // the potential each cloth's energy ledger carries to the next step (SolveLedger::carry_potential).
+  std::vector<Cloth>& cloths();
   const std::vector<Cloth>& cloths() const { return cloths_; }
   const std::vector<Collider>& colliders() const { return colliders_; }
   std::vector<Collider>& colliders() { return colliders_; }  // live edits (friction) between steps

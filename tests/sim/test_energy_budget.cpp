@@ -114,6 +114,22 @@ TEST(EnergyBudget, ACappedNewtonSolveBooksItsResidualsWork) {
   EXPECT_LT(tight_run.largest_error, 1e-6 * scale + 1e-7);
 }
 
+TEST(EnergyBudget, AnEditBetweenStepsIsMeasuredOnTheEditedCloth) {
+  // The collision phase's end measures U for the contact flow and the next step starts from it
+  // (SolveLedger::carry_potential) instead of evaluating U again. A live edit in between (the
+  // viewer's stiffness slider) changes U at the same positions: the step after it must measure
+  // the edited cloth, and its budget close from the energy the edit left.
+  World world = hanging_cloth(
+      R"({"integrator": "implicit_euler", "time_step": 0.005, "newton": {"tolerance": 1e-9, "linear_solver": "cholesky"}})");
+  ASSERT_TRUE(world.settings.collision.enabled) << "the carried potential is the collision phase's";
+  run_budget(world, 20);
+  const double before_edit = world.energies().total();
+  world.cloths()[0].model.springs.stiffness *= 2.0;
+  const BudgetRun run = run_budget(world, 20);
+  EXPECT_GT(std::abs(run.initial - before_edit), 1e-4) << "the edit changed the stretched springs' energy";
+  EXPECT_LT(run.largest_error, 1e-6 * std::abs(run.initial) + 1e-7);
+}
+
 TEST(EnergyBudget, AMovingPinsWorkIsExternalAndTheBudgetCloses) {
   // A 1 m membrane cloth hung from a pin that rises at 0.5 m/s: the pin lifts the cloth.
   for (const std::string integrator : {"implicit_euler", "symplectic_euler"}) {
