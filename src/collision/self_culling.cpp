@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numeric>
 
+#include <omp.h>
+
 namespace weft {
 
 namespace {
@@ -44,6 +46,78 @@ double segment_distance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, cons
 
 }  // namespace
 
+// Whether the triangles order[begin, end) form a topological disk (connected, Euler
+// characteristic 1, one boundary loop); if so, `scratch.boundary` holds its boundary edges.
+bool SelfCulling::disk_boundary(const std::vector<int>& order, const Triangles& triangles, int begin, int end,
+                                DiskScratch& scratch) {
+  std::vector<std::array<int, 3>>& edges = scratch.edges;  // (smaller vertex, larger vertex, local triangle)
+  std::vector<int>& vertices = scratch.vertices;
+  std::vector<int>& triangle_parent = scratch.triangle_parent;
+  std::vector<Eigen::Vector2i>& boundary = scratch.boundary;
+  std::vector<std::pair<int, int>>& ends = scratch.ends;  // (vertex, boundary edge)
+  std::vector<int>& edge_parent = scratch.edge_parent;
+  const int num_triangles = end - begin;
+  edges.clear();
+  vertices.clear();
+  boundary.clear();
+  for (int i = 0; i < num_triangles; ++i) {
+    const int t = order[begin + i];
+    for (int c = 0; c < 3; ++c) {
+      const int u = triangles(c, t);
+      const int v = triangles((c + 1) % 3, t);
+      edges.push_back({std::min(u, v), std::max(u, v), i});
+      vertices.push_back(u);
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  std::sort(vertices.begin(), vertices.end());
+  const int num_vertices = static_cast<int>(std::unique(vertices.begin(), vertices.end()) - vertices.begin());
+
+  // Edges: shared by two triangles (joined), on the boundary (one), or non-manifold (more).
+  triangle_parent.resize(num_triangles);
+  std::iota(triangle_parent.begin(), triangle_parent.end(), 0);
+  int num_edges = 0;
+  bool manifold = true;
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i + 1;
+    while (j < edges.size() && edges[j][0] == edges[i][0] && edges[j][1] == edges[i][1]) ++j;
+    ++num_edges;
+    if (j - i == 1) {
+      boundary.emplace_back(edges[i][0], edges[i][1]);
+    } else if (j - i == 2) {
+      join(triangle_parent, edges[i][2], edges[i + 1][2]);
+    } else {
+      manifold = false;
+    }
+    i = j;
+  }
+  if (!manifold || num_vertices - num_edges + num_triangles != 1) return false;
+  int components = 0;
+  for (int i = 0; i < num_triangles; ++i) components += find_root(triangle_parent, i) == i;
+  if (components != 1) return false;
+
+  // One boundary loop: every boundary vertex ends exactly two boundary edges, and the edges
+  // joined at their shared vertices form one group.
+  ends.clear();
+  for (size_t e = 0; e < boundary.size(); ++e) {
+    ends.emplace_back(boundary[e].x(), static_cast<int>(e));
+    ends.emplace_back(boundary[e].y(), static_cast<int>(e));
+  }
+  std::sort(ends.begin(), ends.end());
+  edge_parent.resize(boundary.size());
+  std::iota(edge_parent.begin(), edge_parent.end(), 0);
+  bool loop = !boundary.empty();
+  for (size_t i = 0; loop && i < ends.size(); i += 2) {
+    loop = i + 1 < ends.size() && ends[i + 1].first == ends[i].first &&
+           (i + 2 >= ends.size() || ends[i + 2].first != ends[i].first);
+    if (loop) join(edge_parent, ends[i].second, ends[i + 1].second);
+  }
+  if (!loop) return false;
+  int loops = 0;
+  for (size_t e = 0; e < boundary.size(); ++e) loops += find_root(edge_parent, static_cast<int>(e)) == static_cast<int>(e);
+  return loops == 1;
+}
+
 void SelfCulling::prepare(const Bvh& bvh) {
   const std::vector<BvhNode>& nodes = bvh.nodes();
   const int num_nodes = static_cast<int>(nodes.size());
@@ -63,83 +137,35 @@ void SelfCulling::prepare(const Bvh& bvh) {
     }
   }
 
+  // The nodes are analysed independently, in parallel: each thread keeps the boundaries of the
+  // disks it found, which are then laid out in node order.
   disk_.assign(num_nodes, 0);
   boundary_start_.assign(num_nodes + 1, 0);
-  boundary_.clear();
-  std::vector<std::array<int, 3>> edges;  // (smaller vertex, larger vertex, local triangle)
-  std::vector<int> vertices;
-  std::vector<int> triangle_parent;
-  std::vector<Eigen::Vector2i> boundary;
-  std::vector<std::pair<int, int>> ends;  // (vertex, boundary edge)
-  std::vector<int> edge_parent;
-  for (int k = 0; k < num_nodes; ++k) {
-    boundary_start_[k] = static_cast<int>(boundary_.size());
-    const int begin = range_begin_[k];
-    const int num_triangles = range_end_[k] - begin;
-    if (nodes[k].is_leaf() || num_triangles < 2) continue;  // within-leaf pairs are always tested
-    edges.clear();
-    vertices.clear();
-    for (int i = 0; i < num_triangles; ++i) {
-      const int t = order[begin + i];
-      for (int c = 0; c < 3; ++c) {
-        const int u = triangles(c, t);
-        const int v = triangles((c + 1) % 3, t);
-        edges.push_back({std::min(u, v), std::max(u, v), i});
-        vertices.push_back(u);
-      }
-    }
-    std::sort(edges.begin(), edges.end());
-    std::sort(vertices.begin(), vertices.end());
-    const int num_vertices = static_cast<int>(std::unique(vertices.begin(), vertices.end()) - vertices.begin());
-
-    // Edges: shared by two triangles (joined), on the boundary (one), or non-manifold (more).
-    triangle_parent.resize(num_triangles);
-    std::iota(triangle_parent.begin(), triangle_parent.end(), 0);
-    boundary.clear();
-    int num_edges = 0;
-    bool manifold = true;
-    for (size_t i = 0; i < edges.size();) {
-      size_t j = i + 1;
-      while (j < edges.size() && edges[j][0] == edges[i][0] && edges[j][1] == edges[i][1]) ++j;
-      ++num_edges;
-      if (j - i == 1) {
-        boundary.emplace_back(edges[i][0], edges[i][1]);
-      } else if (j - i == 2) {
-        join(triangle_parent, edges[i][2], edges[i + 1][2]);
-      } else {
-        manifold = false;
-      }
-      i = j;
-    }
-    if (!manifold || num_vertices - num_edges + num_triangles != 1) continue;
-    int components = 0;
-    for (int i = 0; i < num_triangles; ++i) components += find_root(triangle_parent, i) == i;
-    if (components != 1) continue;
-
-    // One boundary loop: every boundary vertex ends exactly two boundary edges, and the edges
-    // joined at their shared vertices form one group.
-    ends.clear();
-    for (size_t e = 0; e < boundary.size(); ++e) {
-      ends.emplace_back(boundary[e].x(), static_cast<int>(e));
-      ends.emplace_back(boundary[e].y(), static_cast<int>(e));
-    }
-    std::sort(ends.begin(), ends.end());
-    edge_parent.resize(boundary.size());
-    std::iota(edge_parent.begin(), edge_parent.end(), 0);
-    bool loop = !boundary.empty();
-    for (size_t i = 0; loop && i < ends.size(); i += 2) {
-      loop = i + 1 < ends.size() && ends[i + 1].first == ends[i].first &&
-             (i + 2 >= ends.size() || ends[i + 2].first != ends[i].first);
-      if (loop) join(edge_parent, ends[i].second, ends[i + 1].second);
-    }
-    if (!loop) continue;
-    int loops = 0;
-    for (size_t e = 0; e < boundary.size(); ++e) loops += find_root(edge_parent, static_cast<int>(e)) == static_cast<int>(e);
-    if (loops != 1) continue;
-    disk_[k] = 1;
-    boundary_.insert(boundary_.end(), boundary.begin(), boundary.end());
+  const int threads = std::max(1, omp_get_max_threads());
+  if (static_cast<int>(disk_scratch_.size()) < threads) disk_scratch_.resize(threads);
+  for (DiskScratch& scratch : disk_scratch_) {
+    scratch.found.clear();
+    scratch.found_nodes.clear();
   }
-  boundary_start_[num_nodes] = static_cast<int>(boundary_.size());
+#pragma omp parallel for schedule(dynamic, 16) if (num_nodes > 256)
+  for (int k = 0; k < num_nodes; ++k) {
+    if (nodes[k].is_leaf() || range_end_[k] - range_begin_[k] < 2) continue;  // within-leaf pairs are always tested
+    DiskScratch& scratch = disk_scratch_[omp_get_thread_num()];
+    if (!disk_boundary(order, triangles, range_begin_[k], range_end_[k], scratch)) continue;
+    disk_[k] = 1;
+    scratch.found_nodes.push_back({k, static_cast<int>(scratch.found.size()), static_cast<int>(scratch.boundary.size())});
+    scratch.found.insert(scratch.found.end(), scratch.boundary.begin(), scratch.boundary.end());
+  }
+  for (const DiskScratch& scratch : disk_scratch_) {
+    for (const std::array<int, 3>& span : scratch.found_nodes) boundary_start_[span[0] + 1] = span[2];
+  }
+  for (int k = 0; k < num_nodes; ++k) boundary_start_[k + 1] += boundary_start_[k];
+  boundary_.resize(boundary_start_[num_nodes]);
+  for (const DiskScratch& scratch : disk_scratch_) {
+    for (const std::array<int, 3>& span : scratch.found_nodes) {
+      std::copy_n(scratch.found.begin() + span[1], span[2], boundary_.begin() + boundary_start_[span[0]]);
+    }
+  }
   prepared_build_ = bvh.builds();
 }
 
@@ -186,25 +212,54 @@ void SelfCulling::update(const Bvh& bvh, const Positions& x_start, const Positio
     }
   }
 
-  // Preorder: a culled node's subtree is skipped whole (its within-node task never splits).
+  // Preorder: a culled node's subtree is skipped whole (its within-node task never splits). The
+  // nodes above subtrees of at most `small` nodes are walked first; those subtrees (the ones no
+  // culled node above holds) then in parallel, each thread with its own contour scratch and counts.
   const double cos_limit = std::cos(settings.max_cone_angle);
-  for (int k = 0; k < num_nodes;) {
-    if (!disk_[k]) {
-      ++k;
-      continue;
-    }
-    ++stats_.nodes_tested;
+  const auto culls = [&](int k, std::vector<Segment>& segments) {
     const double length = axis_sums_[k].norm();
-    const bool cull = length > 0.0 && cone_holds(order, k, axis_sums_[k] / length, cos_limit) &&
-                      contour_simple(k, axis_sums_[k] / length, x_start, x_end, margin);
-    if (!cull) {
-      ++k;
-      continue;
-    }
+    return length > 0.0 && cone_holds(order, k, axis_sums_[k] / length, cos_limit) &&
+           contour_simple(k, axis_sums_[k] / length, x_start, x_end, margin, segments);
+  };
+  const auto cull = [&](int k, SelfCullingStats& stats) {
     culled_[k] = 1;
-    ++stats_.nodes_culled;
-    stats_.triangles_culled += range_end_[k] - range_begin_[k];
-    k = nodes[k].next;
+    ++stats.nodes_culled;
+    stats.triangles_culled += range_end_[k] - range_begin_[k];
+  };
+  const int threads = std::max(1, omp_get_max_threads());
+  if (static_cast<int>(segment_scratch_.size()) < threads) segment_scratch_.resize(threads);
+  thread_stats_.assign(threads, SelfCullingStats{});
+  const int small = std::max(64, num_nodes / 64);
+  subtrees_.clear();
+  for (int k = 0; k < num_nodes;) {
+    if (nodes[k].next - k <= small) {
+      subtrees_.push_back(k);
+      k = nodes[k].next;
+    } else if (disk_[k] && (++stats_.nodes_tested, culls(k, segment_scratch_[0]))) {
+      cull(k, stats_);
+      k = nodes[k].next;
+    } else {
+      ++k;
+    }
+  }
+  const int num_subtrees = static_cast<int>(subtrees_.size());
+#pragma omp parallel for schedule(dynamic, 1) if (num_subtrees > 1 && num_nodes > 1024)
+  for (int i = 0; i < num_subtrees; ++i) {
+    const int thread = omp_get_thread_num();
+    SelfCullingStats& stats = thread_stats_[thread];
+    for (int k = subtrees_[i], end = nodes[subtrees_[i]].next; k < end;) {
+      if (disk_[k] && (++stats.nodes_tested, culls(k, segment_scratch_[thread]))) {
+        cull(k, stats);
+        k = nodes[k].next;
+      } else {
+        ++k;
+      }
+    }
+  }
+  for (const SelfCullingStats& stats : thread_stats_) {
+    stats_.nodes_tested += stats.nodes_tested;
+    stats_.nodes_culled += stats.nodes_culled;
+    stats_.triangles_culled += stats.triangles_culled;
   }
 }
 
@@ -222,10 +277,10 @@ bool SelfCulling::cone_holds(const std::vector<int>& order, int node, const Vec3
 }
 
 bool SelfCulling::contour_simple(int node, const Vec3& axis, const Positions& x_start, const Positions& x_end,
-                                 double margin) {
+                                 double margin, std::vector<Segment>& segments) const {
   const Vec3 u = axis.unitOrthogonal();
   const Vec3 w = axis.cross(u);
-  segments_.clear();
+  segments.clear();
   for (int e = boundary_start_[node]; e < boundary_start_[node + 1]; ++e) {
     Segment s;
     s.u = boundary_[e].x();
@@ -241,15 +296,15 @@ bool SelfCulling::contour_simple(int node, const Vec3& axis, const Positions& x_
     s.upper_x = std::max(s.a.x(), s.b.x()) + s.reach;
     s.lower_y = std::min(s.a.y(), s.b.y()) - s.reach;
     s.upper_y = std::max(s.a.y(), s.b.y()) + s.reach;
-    segments_.push_back(s);
+    segments.push_back(s);
   }
   // Sweep along x: only segments whose reach boxes overlap can come closer than their reaches.
-  std::sort(segments_.begin(), segments_.end(),
+  std::sort(segments.begin(), segments.end(),
             [](const Segment& a, const Segment& b) { return a.lower_x < b.lower_x; });
-  for (size_t i = 0; i < segments_.size(); ++i) {
-    const Segment& s = segments_[i];
-    for (size_t j = i + 1; j < segments_.size() && segments_[j].lower_x <= s.upper_x; ++j) {
-      const Segment& t = segments_[j];
+  for (size_t i = 0; i < segments.size(); ++i) {
+    const Segment& s = segments[i];
+    for (size_t j = i + 1; j < segments.size() && segments[j].lower_x <= s.upper_x; ++j) {
+      const Segment& t = segments[j];
       if (t.lower_y > s.upper_y || s.lower_y > t.upper_y) continue;
       if (s.u == t.u || s.u == t.v || s.v == t.u || s.v == t.v) continue;  // neighbours on the loop
       if (segment_distance(s.a, s.b, t.a, t.b) <= s.reach + t.reach) return false;

@@ -18,6 +18,8 @@
 // Culling skips proximity tests inside such regions too: two non-adjacent triangles of a flat
 // region within the thickness of each other are not repelled. They cannot cross, which is
 // what the collision phase must guarantee.
+#include <array>
+#include <utility>
 #include <vector>
 
 #include "collision/bvh.hpp"
@@ -55,9 +57,21 @@ class SelfCulling {
   const std::vector<char>& disks() const { return disk_; }
 
  private:
+  // prepare()'s scratch, one a thread: the analysis of one node's triangles, and the boundaries
+  // of the disks the thread found ({node, first edge in `found`, edge count} each).
+  struct DiskScratch {
+    std::vector<std::array<int, 3>> edges;
+    std::vector<int> vertices;
+    std::vector<int> triangle_parent;
+    std::vector<Eigen::Vector2i> boundary;
+    std::vector<std::pair<int, int>> ends;
+    std::vector<int> edge_parent;
+    std::vector<Eigen::Vector2i> found;
+    std::vector<std::array<int, 3>> found_nodes;
+  };
+  static bool disk_boundary(const std::vector<int>& order, const Triangles& triangles, int begin, int end,
+                            DiskScratch& scratch);
   bool cone_holds(const std::vector<int>& order, int node, const Vec3& axis, double cos_limit) const;
-  bool contour_simple(int node, const Vec3& axis, const Positions& x_start, const Positions& x_end,
-                      double margin);
 
   int prepared_build_ = -1;           // Bvh::builds() when prepared
   std::vector<int> range_begin_;      // per node: its triangles are triangle_order()[begin, end)
@@ -65,6 +79,7 @@ class SelfCulling {
   std::vector<char> disk_;            // per node
   std::vector<int> boundary_start_;   // per node: its boundary edges are boundary_[start, start of next)
   std::vector<Eigen::Vector2i> boundary_;
+  std::vector<DiskScratch> disk_scratch_;
 
   // Per step.
   std::vector<Vec3> unit_normals_;    // 3 per triangle: n0, m, n1 normalised (zero when degenerate)
@@ -74,14 +89,18 @@ class SelfCulling {
   std::vector<char> culled_;
   SelfCullingStats stats_;
 
-  // Scratch of the contour test.
+  // Scratch of the contour test, one a thread.
   struct Segment {
     Eigen::Vector2d a, b;          // projected end points at the start of the step
     double reach = 0.0;            // projected displacement bound plus half the margin
     double lower_x = 0.0, upper_x = 0.0, lower_y = 0.0, upper_y = 0.0;
     int u = 0, v = 0;              // vertices
   };
-  std::vector<Segment> segments_;
+  bool contour_simple(int node, const Vec3& axis, const Positions& x_start, const Positions& x_end, double margin,
+                      std::vector<Segment>& segments) const;
+  std::vector<std::vector<Segment>> segment_scratch_;
+  std::vector<SelfCullingStats> thread_stats_;
+  std::vector<int> subtrees_;  // update(): the subtrees walked in parallel
 };
 
 // Per triangle of `bvh`: the topmost node flagged in `culled` above it (its culled region), or
