@@ -236,9 +236,12 @@ void Bvh::build_nodes() {
 }
 
 void Bvh::refit_nodes() {
-  // Children come after their parent in preorder, so a reverse sweep sees them first.
-  double total_area = 0.0;
-  for (int i = static_cast<int>(nodes_.size()) - 1; i >= 0; --i) {
+  // Children come after their parent in preorder, so a reverse sweep sees them first. Subtrees
+  // of at most `small` nodes are swept in parallel, then the nodes above them; the areas are
+  // summed afterwards in the reverse order of the serial sweep, so the cost is the same bits.
+  const int num_nodes = static_cast<int>(nodes_.size());
+  node_areas_.resize(num_nodes);
+  const auto refit_node = [&](int i) {
     BvhNode& node = nodes_[i];
     Aabb box;
     if (node.is_leaf()) {
@@ -252,8 +255,28 @@ void Bvh::refit_nodes() {
       box.grow(nodes_[node.right].box);
     }
     node.box = box;
-    total_area += box.surface_area();
+    node_areas_[i] = box.surface_area();
+  };
+  const int small = std::max(64, num_nodes / 64);
+  subtrees_.clear();
+  upper_nodes_.clear();
+  for (int k = 0; k < num_nodes;) {
+    if (nodes_[k].next - k <= small) {
+      subtrees_.push_back(k);
+      k = nodes_[k].next;
+    } else {
+      upper_nodes_.push_back(k);
+      ++k;
+    }
   }
+  const int num_subtrees = static_cast<int>(subtrees_.size());
+#pragma omp parallel for schedule(dynamic, 1) if (num_nodes > parallel_refit_threshold && num_subtrees > 1)
+  for (int j = 0; j < num_subtrees; ++j) {
+    for (int i = nodes_[subtrees_[j]].next - 1; i >= subtrees_[j]; --i) refit_node(i);
+  }
+  for (auto k = upper_nodes_.rbegin(); k != upper_nodes_.rend(); ++k) refit_node(*k);
+  double total_area = 0.0;
+  for (int i = num_nodes - 1; i >= 0; --i) total_area += node_areas_[i];
   const double root_area = nodes_.empty() ? 0.0 : nodes_[0].box.surface_area();
   cost_ = root_area > 0.0 ? total_area / root_area : 1.0;
 }

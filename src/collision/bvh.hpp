@@ -124,6 +124,10 @@ class Bvh {
   std::vector<int> bin_counts_;
   std::vector<double> right_areas_;
   std::vector<BuildRange> ranges_;
+  // refit_nodes' scratch: each node's surface area, the subtrees swept in parallel, the nodes above.
+  std::vector<double> node_areas_;
+  std::vector<int> subtrees_;
+  std::vector<int> upper_nodes_;
   double cost_ = 0.0;
   double cost_at_build_ = 0.0;
   int builds_ = 0;
