@@ -227,6 +227,7 @@ class CollisionPhase {
   ResponseSettings ccd_settings() const;
   double box_margin() const { return 0.5 * max_thickness_; }
   void label_records(size_t first);
+  void list_pairs_to_retest();
 
   std::vector<MeshSlot> meshes_;            // cloths first, then colliders
   std::vector<ContactMaterial> materials_;  // per cloth
@@ -256,6 +257,8 @@ class CollisionPhase {
   std::vector<TrianglePair> pairs_;
   CollisionCandidates candidates_;
   CollisionCandidates verify_candidates_;
+  CollisionCandidates retested_;     // apply_ccd_impulses: the pairs a pass after the first tests
+  std::vector<char> retest_flags_;   // per vertex: in a collision the last pass found
   CollisionCandidates region_candidates_, region_immovable_;  // query_broken_regions' lists
   CollisionCandidates immovable_candidates_;  // the pairs drop_immovable_pairs took out of query_candidates's
   std::vector<char> culled_before_;  // verify_motion: the culling the candidates were found with
