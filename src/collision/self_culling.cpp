@@ -114,7 +114,8 @@ bool SelfCulling::disk_boundary(const std::vector<int>& order, const Triangles& 
   }
   if (!loop) return false;
   int loops = 0;
-  for (size_t e = 0; e < boundary.size(); ++e) loops += find_root(edge_parent, static_cast<int>(e)) == static_cast<int>(e);
+  for (size_t e = 0; e < boundary.size(); ++e)
+    loops += find_root(edge_parent, static_cast<int>(e)) == static_cast<int>(e);
   return loops == 1;
 }
 
@@ -149,11 +150,13 @@ void SelfCulling::prepare(const Bvh& bvh) {
   }
 #pragma omp parallel for schedule(dynamic, 16) if (num_nodes > 256)
   for (int k = 0; k < num_nodes; ++k) {
-    if (nodes[k].is_leaf() || range_end_[k] - range_begin_[k] < 2) continue;  // within-leaf pairs are always tested
+    // Leaves are never culled: the pairs within a leaf are always tested.
+    if (nodes[k].is_leaf() || range_end_[k] - range_begin_[k] < 2) continue;
     DiskScratch& scratch = disk_scratch_[omp_get_thread_num()];
     if (!disk_boundary(order, triangles, range_begin_[k], range_end_[k], scratch)) continue;
     disk_[k] = 1;
-    scratch.found_nodes.push_back({k, static_cast<int>(scratch.found.size()), static_cast<int>(scratch.boundary.size())});
+    scratch.found_nodes.push_back(
+        {k, static_cast<int>(scratch.found.size()), static_cast<int>(scratch.boundary.size())});
     scratch.found.insert(scratch.found.end(), scratch.boundary.begin(), scratch.boundary.end());
   }
   for (const DiskScratch& scratch : disk_scratch_) {
@@ -216,15 +219,19 @@ void SelfCulling::update(const Bvh& bvh, const Positions& x_start, const Positio
   // nodes above subtrees of at most `small` nodes are walked first; those subtrees (the ones no
   // culled node above holds) then in parallel, each thread with its own contour scratch and counts.
   const double cos_limit = std::cos(settings.max_cone_angle);
-  const auto culls = [&](int k, std::vector<Segment>& segments) {
+  // Tests node k where it is a disk and culls it if it holds; returns the next node of the walk
+  // (past k's subtree when culled).
+  const auto visit = [&](int k, std::vector<Segment>& segments, SelfCullingStats& stats) {
+    if (!disk_[k]) return k + 1;
+    ++stats.nodes_tested;
     const double length = axis_sums_[k].norm();
-    return length > 0.0 && cone_holds(order, k, axis_sums_[k] / length, cos_limit) &&
-           contour_simple(k, axis_sums_[k] / length, x_start, x_end, margin, segments);
-  };
-  const auto cull = [&](int k, SelfCullingStats& stats) {
+    const bool cull = length > 0.0 && cone_holds(order, k, axis_sums_[k] / length, cos_limit) &&
+                      contour_simple(k, axis_sums_[k] / length, x_start, x_end, margin, segments);
+    if (!cull) return k + 1;
     culled_[k] = 1;
     ++stats.nodes_culled;
     stats.triangles_culled += range_end_[k] - range_begin_[k];
+    return nodes[k].next;
   };
   const int threads = std::max(1, omp_get_max_threads());
   if (static_cast<int>(segment_scratch_.size()) < threads) segment_scratch_.resize(threads);
@@ -235,26 +242,16 @@ void SelfCulling::update(const Bvh& bvh, const Positions& x_start, const Positio
     if (nodes[k].next - k <= small) {
       subtrees_.push_back(k);
       k = nodes[k].next;
-    } else if (disk_[k] && (++stats_.nodes_tested, culls(k, segment_scratch_[0]))) {
-      cull(k, stats_);
-      k = nodes[k].next;
     } else {
-      ++k;
+      k = visit(k, segment_scratch_[0], stats_);
     }
   }
   const int num_subtrees = static_cast<int>(subtrees_.size());
 #pragma omp parallel for schedule(dynamic, 1) if (num_subtrees > 1 && num_nodes > 1024)
   for (int i = 0; i < num_subtrees; ++i) {
     const int thread = omp_get_thread_num();
-    SelfCullingStats& stats = thread_stats_[thread];
-    for (int k = subtrees_[i], end = nodes[subtrees_[i]].next; k < end;) {
-      if (disk_[k] && (++stats.nodes_tested, culls(k, segment_scratch_[thread]))) {
-        cull(k, stats);
-        k = nodes[k].next;
-      } else {
-        ++k;
-      }
-    }
+    const int end = nodes[subtrees_[i]].next;
+    for (int k = subtrees_[i]; k < end;) k = visit(k, segment_scratch_[thread], thread_stats_[thread]);
   }
   for (const SelfCullingStats& stats : thread_stats_) {
     stats_.nodes_tested += stats.nodes_tested;

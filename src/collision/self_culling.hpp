@@ -96,8 +96,8 @@ class SelfCulling {
     double lower_x = 0.0, upper_x = 0.0, lower_y = 0.0, upper_y = 0.0;
     int u = 0, v = 0;              // vertices
   };
-  bool contour_simple(int node, const Vec3& axis, const Positions& x_start, const Positions& x_end, double margin,
-                      std::vector<Segment>& segments) const;
+  bool contour_simple(int node, const Vec3& axis, const Positions& x_start, const Positions& x_end,
+                      double margin, std::vector<Segment>& segments) const;
   std::vector<std::vector<Segment>> segment_scratch_;
   std::vector<SelfCullingStats> thread_stats_;
   std::vector<int> subtrees_;  // update(): the subtrees walked in parallel

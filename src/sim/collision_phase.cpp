@@ -496,8 +496,12 @@ void CollisionPhase::collider_contacts(int cloth, const Cloth& state, double h, 
       if (!(nearest < reach) || !(nearest > 1e-9 * thickness)) continue;
       const Vec3 normal = (x - closest_point) / nearest;
       const size_t at = static_cast<size_t>(v) * num_colliders + k;
-      reach_slots_[at] = PenaltyContact{{v, -1, -1, -1}, {1.0, 0.0, 0.0, 0.0}, normal, -normal.dot(closest_point),
-                                        std::min(thickness, nearest), ratio / (inverse_mass * h * h)};
+      reach_slots_[at] = PenaltyContact{{v, -1, -1, -1},
+                                        {1.0, 0.0, 0.0, 0.0},
+                                        normal,
+                                        -normal.dot(closest_point),
+                                        std::min(thickness, nearest),
+                                        ratio / (inverse_mass * h * h)};
       reach_found_[at] = 1;
     }
   }
@@ -608,8 +612,8 @@ void CollisionPhase::list_pairs_to_retest() {
     }
   }
   for (const EdgeEdgePair& pair : candidates_.edge_edge) {
-    if (flagged(edges_(0, pair.edge_a)) || flagged(edges_(1, pair.edge_a)) || flagged(edges_(0, pair.edge_b)) ||
-        flagged(edges_(1, pair.edge_b))) {
+    if (flagged(edges_(0, pair.edge_a)) || flagged(edges_(1, pair.edge_a)) ||
+        flagged(edges_(0, pair.edge_b)) || flagged(edges_(1, pair.edge_b))) {
       retested_.edge_edge.push_back(pair);
     }
   }

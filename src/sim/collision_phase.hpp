@@ -257,8 +257,8 @@ class CollisionPhase {
   std::vector<TrianglePair> pairs_;
   CollisionCandidates candidates_;
   CollisionCandidates verify_candidates_;
-  CollisionCandidates retested_;     // apply_ccd_impulses: the pairs a pass after the first tests
-  std::vector<char> retest_flags_;   // per vertex: in a collision the last pass found
+  CollisionCandidates retested_;    // apply_ccd_impulses: the pairs a pass after the first tests
+  std::vector<char> retest_flags_;  // per vertex: in a collision the last pass found
   CollisionCandidates region_candidates_, region_immovable_;  // query_broken_regions' lists
   CollisionCandidates immovable_candidates_;  // the pairs drop_immovable_pairs took out of query_candidates's
   std::vector<char> culled_before_;  // verify_motion: the culling the candidates were found with
@@ -267,8 +267,8 @@ class CollisionPhase {
   MovedPrimitives escaped_primitives_;  // of one cloth, touching escaped vertices
   std::vector<int> box_triangles_;      // find_pairs_of's scratch
   std::vector<std::vector<int>> reach_triangles_;  // collider_contacts' scratch, one a thread
-  std::vector<PenaltyContact> reach_slots_;  // collider_contacts: a vertex's contact with each collider
-  std::vector<char> reach_found_;            // ... and whether it has one
+  std::vector<PenaltyContact> reach_slots_;        // collider_contacts: a vertex's contact with each collider
+  std::vector<char> reach_found_;                  // ... and whether it has one
   Positions reach_positions_;           // collider_contacts: the colliders' columns, at t + h
   double step_start_time_ = 0.0;        // begin_step's t
   GroupedPairs<VertexFacePair> near_vertex_faces_;  // the last proximity phase's pairs by material group
