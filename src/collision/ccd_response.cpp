@@ -11,10 +11,6 @@
 
 namespace weft {
 
-namespace {
-
-// Whether the boxes swept by two sets of vertices over the step come within `gap` of each other:
-// primitives whose swept boxes stay apart cannot meet, and most candidates end here.
 bool swept_boxes_overlap(const Positions& x0, const Positions& x1, std::initializer_list<int> first,
                          std::initializer_list<int> second, double gap) {
   const auto box_of = [&](std::initializer_list<int> vertices, Vec3& lower, Vec3& upper) {
@@ -29,8 +25,6 @@ bool swept_boxes_overlap(const Positions& x0, const Positions& x1, std::initiali
   box_of(second, lower_b, upper_b);
   return (lower_a.array() <= upper_b.array() + gap).all() && (lower_b.array() <= upper_a.array() + gap).all();
 }
-
-}  // namespace
 
 ContactRecord ccd_contact_record(const CollisionStep& step, const CcdCollision& collision, double impulse,
                                  const ResponseSettings& settings) {

@@ -4,6 +4,7 @@
 // along the collision normal (restoring a small gap if the pair started closer than it), applied
 // at once so later pairs see the corrected motion. Passes repeat until one finds no collision or
 // the pass limit is reached; what remains is left to impact zones.
+#include <initializer_list>
 #include <optional>
 #include <vector>
 
@@ -22,6 +23,12 @@ struct CcdCollision {
   double distance;         // at `time`
   ContactStencil stencil;  // weights at `time`, normal from primitive b towards primitive a
 };
+
+// Whether the boxes swept by two sets of vertices from x0 to x1 come within `gap` of each other
+// along every coordinate axis: primitives whose swept boxes stay apart cannot meet, and most
+// candidates end here. With x0 = x1, the boxes at one time.
+bool swept_boxes_overlap(const Positions& x0, const Positions& x1, std::initializer_list<int> first,
+                         std::initializer_list<int> second, double gap);
 
 // Continuous test of one pair over the step's current motion; pairs that share a vertex never
 // collide.

@@ -20,24 +20,6 @@ double milliseconds_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// Whether the boxes around two sets of vertices at positions x are more than `gap` apart along a
-// coordinate axis: the primitives on them are then farther apart than `gap` (a test of a few
-// comparisons that spares most candidates the closest-point computation).
-template <size_t A, size_t B>
-bool boxes_apart(const Positions& x, const std::array<int, A>& a, const std::array<int, B>& b, double gap) {
-  Vec3 lower_a = x.col(a[0]), upper_a = lower_a;
-  for (size_t k = 1; k < A; ++k) {
-    lower_a = lower_a.cwiseMin(x.col(a[k]));
-    upper_a = upper_a.cwiseMax(x.col(a[k]));
-  }
-  Vec3 lower_b = x.col(b[0]), upper_b = lower_b;
-  for (size_t k = 1; k < B; ++k) {
-    lower_b = lower_b.cwiseMin(x.col(b[k]));
-    upper_b = upper_b.cwiseMax(x.col(b[k]));
-  }
-  return ((lower_b - upper_a).array() > gap).any() || ((lower_a - upper_b).array() > gap).any();
-}
-
 }  // namespace
 
 void CollisionPhase::set_meshes(const std::vector<Cloth>& cloths, const std::vector<ContactMaterial>& materials,
@@ -325,7 +307,8 @@ void CollisionPhase::apply_proximity() {
     const VertexFacePair& pair = vertex_faces[k];
     const auto corners = triangles_.col(pair.triangle);
     const double thickness = pair_thickness(pair.vertex, corners[0]);
-    if (boxes_apart<1, 3>(x, {pair.vertex}, {corners[0], corners[1], corners[2]}, thickness)) {
+    // Boxes farther apart than the thickness spare the closest-point computation (most candidates).
+    if (!swept_boxes_overlap(x, x, {pair.vertex}, {corners[0], corners[1], corners[2]}, thickness)) {
       near_vertex_face_[k] = 0;
       continue;
     }
@@ -340,7 +323,7 @@ void CollisionPhase::apply_proximity() {
     const auto a = edges_.col(pair.edge_a);
     const auto b = edges_.col(pair.edge_b);
     const double thickness = pair_thickness(a[0], b[0]);
-    if (boxes_apart<2, 2>(x, {a[0], a[1]}, {b[0], b[1]}, thickness)) {
+    if (!swept_boxes_overlap(x, x, {a[0], a[1]}, {b[0], b[1]}, thickness)) {
       near_edge_edge_[k] = 0;
       continue;
     }
