@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <utility>
 
 #include "physics/bending.hpp"
@@ -80,17 +81,32 @@ double ImplicitEulerSolver::incremental_potential(const ClothModel& model, const
   if (gradient != nullptr) gradient->setZero();
   if (hessian != nullptr) hessian->set_zero();
   double value = evaluate_mass_quadratic(model.mass, 1.0 / (h * h), x, x_hat_, gradient, hessian);
-  value += evaluate_potential(model, gravity, x, gradient, hessian, stencils_, project);
-  value += evaluate_dissipation(model, x_start_, x, h, gradient, hessian, stencils_);
+  const double potential = evaluate_potential(model, gravity, x, gradient, hessian, stencils_, project);
+  value += potential + evaluate_dissipation(model, x_start_, x, h, gradient, hessian, stencils_);
+  double penalty = 0.0;
   if (penalty_ != nullptr) {
-    value += penalty_->evaluate(x, gradient, hessian);
+    penalty = penalty_->evaluate(x, gradient, hessian);
+    value += penalty;
     if (hessian != nullptr) x_linearized_ = x;
   }
   if (gradient != nullptr) {
+    last_evaluation_.point = x;
+    last_evaluation_.potential = potential;
+    last_evaluation_.penalty = penalty;
+    last_evaluation_.gradient = *gradient;
+    last_evaluation_valid_ = true;
     Eigen::Map<Eigen::VectorXd>(gradient->data(), gradient->size()).array() *= free_mask_.array();
   }
   if (hessian != nullptr) hessian->finish_assembly();
   return value;
+}
+
+const IncrementalPotentialParts* ImplicitEulerSolver::last_evaluation_at(const Positions& x) const {
+  // Bitwise: the parts are those of this very point (0.0 and -0.0 need not evaluate alike).
+  const bool same_point =
+      last_evaluation_valid_ && last_evaluation_.point.cols() == x.cols() &&
+      std::memcmp(x.data(), last_evaluation_.point.data(), sizeof(double) * static_cast<size_t>(x.size())) == 0;
+  return same_point ? &last_evaluation_ : nullptr;
 }
 
 void ImplicitEulerSolver::swap_patterns() {
@@ -148,6 +164,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   report_.full_matrix_steps = 0;
   report_.gradient_norms.clear();
   report_.iterations.clear();
+  last_evaluation_valid_ = false;  // its x_hat, x_start and penalty were the last step's
 
   // Inertial predictor; pinned vertices keep their (zero) velocity, so they stay put.
   x_start_ = state.x;

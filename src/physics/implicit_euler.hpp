@@ -114,6 +114,16 @@ int vertices_above_tolerance(const Positions& gradient, const Eigen::VectorXd& i
 // viewer's Solver panel warns.
 double resting_start_residual(const Vec3& gravity, double h);
 
+// A step's last evaluation of the incremental potential with a gradient, in the parts the energy
+// ledger needs at the step's end (sim/energy_ledger.hpp), which would otherwise take another pass
+// over the elements there.
+struct IncrementalPotentialParts {
+  Positions point;        // where it was evaluated
+  double potential = 0.0; // U: the elastic terms and gravity
+  double penalty = 0.0;   // the contact penalty's energy (0 without one)
+  Positions gradient;     // grad Phi = M (x - x_hat) / h^2 + grad U + grad D + grad penalty, pinned rows kept
+};
+
 // Preallocated storage for one cloth's implicit steps; the sparsity pattern is built on first use.
 class ImplicitEulerSolver {
  public:
@@ -123,6 +133,9 @@ class ImplicitEulerSolver {
   const NewtonReport& step(Cloth& cloth, const Vec3& gravity, double h, const ImplicitEulerSettings& settings,
                            const ContactPenalty* penalty = nullptr);
   const NewtonReport& last_report() const { return report_; }
+  // The last step's last evaluation with a gradient when it was taken at exactly `x` (the
+  // cloth's positions as the step left them, unless something moved them since); else null.
+  const IncrementalPotentialParts* last_evaluation_at(const Positions& x) const;
 
  private:
   void prepare(const ClothModel& model, bool hinges_in_matrix);
@@ -155,6 +168,8 @@ class ImplicitEulerSolver {
   NewtonTail tail_;
   bool tail_supported_ = false;
   NewtonReport report_;
+  IncrementalPotentialParts last_evaluation_;
+  bool last_evaluation_valid_ = false;  // last_evaluation_ was taken in the last step
 };
 
 }  // namespace weft

@@ -56,41 +56,51 @@ void SolveLedger::carry_potential(double potential, const Vec3& gravity) {
 }
 
 EnergyFlows SolveLedger::implicit_euler(const Cloth& cloth, const Vec3& gravity, double h,
-                                        const ContactPenalty* penalty) {
+                                        const ContactPenalty* penalty, const IncrementalPotentialParts* at_end) {
   const ClothModel& model = cloth.model;
   const Positions& x1 = cloth.state.x;
   const Positions& v1 = cloth.state.v;
-  // U includes the penalty: the solve saw it as potential energy.
-  gradient_.setZero(3, x1.cols());
-  potential_end_ = evaluate_potential(model, gravity, x1, &gradient_, nullptr, HessianStencils{}, false);
-  double penalty_start = 0.0, penalty_end = 0.0;
-  if (penalty != nullptr && penalty->active()) {
-    penalty_start = penalty->evaluate(x0_, nullptr, nullptr);
-    penalty_end = penalty->evaluate(x1, &gradient_, nullptr);
-  }
-  dissipation_gradient_.setZero(3, x1.cols());
-  evaluate_dissipation(model, x0_, x1, h, &dissipation_gradient_, nullptr, HessianStencils{});
-
+  const bool penalized = penalty != nullptr && penalty->active();
   dx_ = x1 - x0_;
   dv_ = v1 - v0_;
-  const double bregman = (potential_start_ + penalty_start) - (potential_end_ + penalty_end) +
-                         (gradient_.cwiseProduct(dx_)).sum();
+  dissipation_gradient_.setZero(3, x1.cols());
+  evaluate_dissipation(model, x0_, x1, h, &dissipation_gradient_, nullptr, HessianStencils{});
+  // U includes the penalty: the solve saw it as potential energy. The row r is the incremental
+  // potential's gradient at x1 (M (x1 - x_hat) / h^2 = M dv / h), the solve's own last one when
+  // it was taken there.
+  double penalty_end = 0.0;
+  if (at_end != nullptr) {
+    potential_end_ = at_end->potential;
+    penalty_end = at_end->penalty;
+    row_ = at_end->gradient;
+  } else {
+    row_.setZero(3, x1.cols());
+    potential_end_ = evaluate_potential(model, gravity, x1, &row_, nullptr, HessianStencils{}, false);
+    if (penalized) penalty_end = penalty->evaluate(x1, &row_, nullptr);
+    row_ += dissipation_gradient_;
+    for (Eigen::Index i = 0; i < row_.cols(); ++i) row_.col(i) += (model.mass[i] / h) * dv_.col(i);
+  }
+  const double penalty_start = penalized ? penalty->evaluate(x0_, nullptr, nullptr) : 0.0;
+
   EnergyFlows flows;
-  flows.integrator = 0.5 * mass_norm_squared(model.mass, dv_) + bregman;
-  // grad D(x1) = -F_d(v1): the damping force's power over the step is -dx . grad D.
-  flows.damping = (dissipation_gradient_.cwiseProduct(dx_)).sum();
-  // Vertex i's row of the incremental potential's gradient, r_i = M dv / h + grad U + grad D: for a
-  // pinned vertex minus the pin's reaction, whose work is external; for a free one what the solve
-  // left unbalanced, whose work the step added (the residual flow takes it out).
+  // Vertex i's row r_i: for a pinned vertex minus the pin's reaction, whose work is external; for a
+  // free one what the solve left unbalanced, whose work the step added (the residual flow takes it
+  // out). dx . grad U(x1), for the Bregman divergence, is dx . (r - M dv / h - grad D).
+  double potential_work = 0.0;
   for (Eigen::Index i = 0; i < dx_.cols(); ++i) {
-    const Vec3 row = (model.mass[i] / h) * dv_.col(i) + gradient_.col(i) + dissipation_gradient_.col(i);
-    const double work = dx_.col(i).dot(row);
+    const double work = dx_.col(i).dot(row_.col(i));
+    potential_work +=
+        work - dx_.col(i).dot((model.mass[i] / h) * dv_.col(i) + dissipation_gradient_.col(i));
     if (model.inverse_mass[i] == 0.0) {
       flows.external_work += work;
     } else {
       flows.residual -= work;
     }
   }
+  const double bregman = (potential_start_ + penalty_start) - (potential_end_ + penalty_end) + potential_work;
+  flows.integrator = 0.5 * mass_norm_squared(model.mass, dv_) + bregman;
+  // grad D(x1) = -F_d(v1): the damping force's power over the step is -dx . grad D.
+  flows.damping = (dissipation_gradient_.cwiseProduct(dx_)).sum();
   flows.contact = penalty_end - penalty_start;
   return flows;
 }

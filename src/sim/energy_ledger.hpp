@@ -35,6 +35,7 @@
 // budget closes by construction and says only where energy appeared.
 #include "physics/cloth.hpp"
 #include "physics/contact_penalty.hpp"
+#include "physics/implicit_euler.hpp"
 
 namespace weft {
 
@@ -73,8 +74,11 @@ class SolveLedger {
   void carry_potential(double potential, const Vec3& gravity);
   void forget_carried_potential() { carried_ = false; }
   // Flows of an implicit Euler step from the recorded start to the cloth's state; `penalty`
-  // as the solver saw it (null or inactive: none).
-  EnergyFlows implicit_euler(const Cloth& cloth, const Vec3& gravity, double h, const ContactPenalty* penalty);
+  // as the solver saw it (null or inactive: none). `at_end`, when given, is the solver's
+  // evaluation at the cloth's positions (ImplicitEulerSolver::last_evaluation_at), taken instead
+  // of evaluating U, its gradient and the penalty there again.
+  EnergyFlows implicit_euler(const Cloth& cloth, const Vec3& gravity, double h, const ContactPenalty* penalty,
+                             const IncrementalPotentialParts* at_end = nullptr);
   // Flows of a symplectic Euler step; cloth.state.force holds the force the step used.
   EnergyFlows symplectic_euler(const Cloth& cloth, const Vec3& gravity);
   // Any other integrator: the solve's whole change of energy, booked as the integrator's.
@@ -86,7 +90,8 @@ class SolveLedger {
  private:
   Positions x0_, v0_;
   Positions dx_, dv_;     // x1 - x0, v1 - v0
-  Positions gradient_;    // grad U at the start (symplectic) or the end (implicit)
+  Positions gradient_;    // grad U at the start (symplectic)
+  Positions row_;         // implicit: r = M dv / h + grad U(x1) + grad D(x1), penalty included
   Positions dissipation_gradient_;
   double potential_start_ = 0.0;
   double potential_end_ = 0.0;

@@ -10,6 +10,8 @@
 
 #include "io/scene_builder.hpp"
 #include "io/scene_file.hpp"
+#include "physics/implicit_euler.hpp"
+#include "sim/energy_ledger.hpp"
 #include "sim/world.hpp"
 
 namespace weft {
@@ -112,6 +114,41 @@ TEST(EnergyBudget, ACappedNewtonSolveBooksItsResidualsWork) {
   EXPECT_GT(std::abs(capped_run.flows.residual), 1e4 * std::abs(tight_run.flows.residual));
   EXPECT_LT(capped_run.largest_error, 1e-9 * scale + 1e-9);
   EXPECT_LT(tight_run.largest_error, 1e-6 * scale + 1e-7);
+}
+
+TEST(EnergyBudget, TheSolversLastEvaluationBooksWhatAFreshOneWould) {
+  // The ledger takes U, the penalty and the incremental potential's gradient at the step's end
+  // from the solver's last evaluation when it was taken at the cloth's positions
+  // (ImplicitEulerSolver::last_evaluation_at). One capped Newton iteration (residual left) with the
+  // pinned corners rising (external work): every flow as an evaluation of its own gives it.
+  World world = hanging_cloth(
+      R"({"integrator": "implicit_euler", "time_step": 0.02, "newton": {"tolerance": 1e-9, "max_iterations": 1}})");
+  run_budget(world, 5);
+  Cloth cloth = world.cloths()[0];
+  for (Eigen::Index i = 0; i < cloth.state.v.cols(); ++i) {
+    if (cloth.model.inverse_mass[i] == 0.0) cloth.state.v.col(i) = Vec3(0.0, 0.5, 0.0);
+  }
+  const Vec3 gravity = world.settings.gravity;
+  const double h = world.settings.time_step;
+  SolveLedger ledger;
+  ledger.begin(cloth, gravity, false);
+  ImplicitEulerSolver solver;
+  solver.step(cloth, gravity, h, world.settings.implicit);
+  const IncrementalPotentialParts* parts = solver.last_evaluation_at(cloth.state.x);
+  ASSERT_NE(parts, nullptr) << "the step's last evaluation was at its end";
+  const EnergyFlows reused = ledger.implicit_euler(cloth, gravity, h, nullptr, parts);
+  const EnergyFlows fresh = ledger.implicit_euler(cloth, gravity, h, nullptr, nullptr);
+  EXPECT_GT(reused.external_work, 1e-4) << "the rising pins did work";
+  EXPECT_GT(std::abs(reused.residual), 1e-6) << "one iteration left a residual";
+  const double tolerance = 1e-12 * (std::abs(fresh.integrator) + std::abs(fresh.external_work) + 1.0);
+  EXPECT_NEAR(reused.external_work, fresh.external_work, tolerance);
+  EXPECT_NEAR(reused.damping, fresh.damping, tolerance);
+  EXPECT_NEAR(reused.integrator, fresh.integrator, tolerance);
+  EXPECT_NEAR(reused.residual, fresh.residual, tolerance);
+  EXPECT_NEAR(reused.contact, fresh.contact, tolerance);
+  Positions moved = cloth.state.x;
+  moved(1, 0) = std::nextafter(moved(1, 0), 2.0);
+  EXPECT_EQ(solver.last_evaluation_at(moved), nullptr) << "a point one ulp away is another point";
 }
 
 TEST(EnergyBudget, AnEditBetweenStepsIsMeasuredOnTheEditedCloth) {
