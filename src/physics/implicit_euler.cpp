@@ -103,9 +103,9 @@ double ImplicitEulerSolver::incremental_potential(const ClothModel& model, const
 
 const IncrementalPotentialParts* ImplicitEulerSolver::last_evaluation_at(const Positions& x) const {
   // Bitwise: the parts are those of this very point (0.0 and -0.0 need not evaluate alike).
-  const bool same_point =
-      last_evaluation_valid_ && last_evaluation_.point.cols() == x.cols() &&
-      std::memcmp(x.data(), last_evaluation_.point.data(), sizeof(double) * static_cast<size_t>(x.size())) == 0;
+  const bool same_point = last_evaluation_valid_ && last_evaluation_.point.cols() == x.cols() &&
+                          std::memcmp(x.data(), last_evaluation_.point.data(),
+                                      sizeof(double) * static_cast<size_t>(x.size())) == 0;
   return same_point ? &last_evaluation_ : nullptr;
 }
 

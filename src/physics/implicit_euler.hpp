@@ -118,10 +118,10 @@ double resting_start_residual(const Vec3& gravity, double h);
 // ledger needs at the step's end (sim/energy_ledger.hpp), which would otherwise take another pass
 // over the elements there.
 struct IncrementalPotentialParts {
-  Positions point;        // where it was evaluated
-  double potential = 0.0; // U: the elastic terms and gravity
-  double penalty = 0.0;   // the contact penalty's energy (0 without one)
-  Positions gradient;     // grad Phi = M (x - x_hat) / h^2 + grad U + grad D + grad penalty, pinned rows kept
+  Positions point;         // where it was evaluated
+  double potential = 0.0;  // U: the elastic terms and gravity
+  double penalty = 0.0;    // the contact penalty's energy (0 without one)
+  Positions gradient;  // grad Phi = M (x - x_hat) / h^2 + grad U + grad D + grad penalty, pinned rows kept
 };
 
 // Preallocated storage for one cloth's implicit steps; the sparsity pattern is built on first use.

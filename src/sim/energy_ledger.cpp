@@ -56,7 +56,8 @@ void SolveLedger::carry_potential(double potential, const Vec3& gravity) {
 }
 
 EnergyFlows SolveLedger::implicit_euler(const Cloth& cloth, const Vec3& gravity, double h,
-                                        const ContactPenalty* penalty, const IncrementalPotentialParts* at_end) {
+                                        const ContactPenalty* penalty,
+                                        const IncrementalPotentialParts* at_end) {
   const ClothModel& model = cloth.model;
   const Positions& x1 = cloth.state.x;
   const Positions& v1 = cloth.state.v;
@@ -89,8 +90,7 @@ EnergyFlows SolveLedger::implicit_euler(const Cloth& cloth, const Vec3& gravity,
   double potential_work = 0.0;
   for (Eigen::Index i = 0; i < dx_.cols(); ++i) {
     const double work = dx_.col(i).dot(row_.col(i));
-    potential_work +=
-        work - dx_.col(i).dot((model.mass[i] / h) * dv_.col(i) + dissipation_gradient_.col(i));
+    potential_work += work - dx_.col(i).dot((model.mass[i] / h) * dv_.col(i) + dissipation_gradient_.col(i));
     if (model.inverse_mass[i] == 0.0) {
       flows.external_work += work;
     } else {

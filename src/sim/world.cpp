@@ -151,8 +151,9 @@ void World::integrate(double h, int substep, StepStats& stats) {
     if (budget) {
       switch (energy_identity()) {
         case EnergyIdentity::implicit_euler:
-          stats.energy_flows += solvers.ledger.implicit_euler(cloth, settings.gravity, h, &solvers.penalty,
-                                                              solvers.implicit.last_evaluation_at(cloth.state.x));
+          stats.energy_flows +=
+              solvers.ledger.implicit_euler(cloth, settings.gravity, h, &solvers.penalty,
+                                            solvers.implicit.last_evaluation_at(cloth.state.x));
           break;
         case EnergyIdentity::symplectic_euler:
           stats.energy_flows += solvers.ledger.symplectic_euler(cloth, settings.gravity);
