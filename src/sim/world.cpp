@@ -274,7 +274,9 @@ void World::resolve_collisions(double h, StepStats& stats) {
   if (settings.energy_budget) {
     double energy_after = 0.0;
     for (size_t c = 0; c < cloths_.size(); ++c) {
-      const double potential = potential_energy(cloths_[c], settings.gravity);
+      // A cloth the phase left where the solve ended has the solve's U (its last evaluation).
+      const IncrementalPotentialParts* unmoved = solvers_[c]->implicit.last_evaluation_at(cloths_[c].state.x);
+      const double potential = unmoved != nullptr ? unmoved->potential : potential_energy(cloths_[c], settings.gravity);
       energy_after += kinetic_energy(cloths_[c]) + potential;
       solvers_[c]->ledger.carry_potential(potential, settings.gravity);  // the next step starts here
     }
