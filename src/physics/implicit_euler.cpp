@@ -82,7 +82,8 @@ double ImplicitEulerSolver::incremental_potential(const ClothModel& model, const
   if (hessian != nullptr) hessian->set_zero();
   double value = evaluate_mass_quadratic(model.mass, 1.0 / (h * h), x, x_hat_, gradient, hessian);
   const double potential = evaluate_potential(model, gravity, x, gradient, hessian, stencils_, project);
-  value += potential + evaluate_dissipation(model, x_start_, x, h, gradient, hessian, stencils_);
+  value += potential;
+  value += evaluate_dissipation(model, x_start_, x, h, gradient, hessian, stencils_);
   double penalty = 0.0;
   if (penalty_ != nullptr) {
     penalty = penalty_->evaluate(x, gradient, hessian);
