@@ -96,29 +96,26 @@ void detect_collisions(const CollisionStep& step, const std::vector<VertexFacePa
   collisions.found.clear();
   const int num_vertex_faces = static_cast<int>(vertex_faces.size());
   const int total = num_vertex_faces + static_cast<int>(edge_edges.size());
-  const int max_threads = std::max(1, omp_get_max_threads());
-  if (static_cast<int>(collisions.thread_found.size()) < max_threads) collisions.thread_found.resize(max_threads);
-  // Each thread tests a contiguous slice of the pairs and keeps its hits in order; the slices
-  // are joined in thread order, so the list is the same for any number of threads.
-  int threads = 1;
-#pragma omp parallel if (total > 256)
-  {
-    const int count = omp_get_num_threads();
-    const int thread = omp_get_thread_num();
-    if (thread == 0) threads = count;
-    std::vector<CcdCollision>& found = collisions.thread_found[thread];
+  // Contiguous chunks of the pairs, taken by the threads as they come free (the pairs are
+  // sorted, so the costly ones near contact bunch together), each keeping its hits in order; the
+  // chunks are joined in order, so the list is the same for any number of threads.
+  const int chunks = std::clamp(total / 256, 1, detection_chunks);
+  if (static_cast<int>(collisions.chunk_found.size()) < chunks) collisions.chunk_found.resize(chunks);
+#pragma omp parallel for schedule(dynamic, 1) if (chunks > 1)
+  for (int c = 0; c < chunks; ++c) {
+    std::vector<CcdCollision>& found = collisions.chunk_found[c];
     found.clear();
-    const int end = chunk_begin(thread + 1, total, count);
-    for (int k = chunk_begin(thread, total, count); k < end; ++k) {
+    const int end = chunk_begin(c + 1, total, chunks);
+    for (int k = chunk_begin(c, total, chunks); k < end; ++k) {
       const std::optional<CcdCollision> collision =
           k < num_vertex_faces ? detect_collision(step, vertex_faces[k], settings)
                                : detect_collision(step, edge_edges[k - num_vertex_faces], settings);
       if (collision) found.push_back(*collision);
     }
   }
-  for (int t = 0; t < threads; ++t) {
-    collisions.found.insert(collisions.found.end(), collisions.thread_found[t].begin(),
-                            collisions.thread_found[t].end());
+  for (int c = 0; c < chunks; ++c) {
+    collisions.found.insert(collisions.found.end(), collisions.chunk_found[c].begin(),
+                            collisions.chunk_found[c].end());
   }
 }
 

@@ -40,11 +40,14 @@ std::optional<CcdCollision> detect_collision(const CollisionStep& step, const Ed
 // Every colliding pair of the current motion, found over the OpenMP threads into per-thread
 // buffers that are kept from call to call (so a warmed-up step allocates nothing).
 struct CcdCollisions {
-  std::vector<CcdCollision> found;                      // in pair order, whatever the thread count
-  std::vector<std::vector<CcdCollision>> thread_found;  // scratch, one per thread
+  std::vector<CcdCollision> found;                     // in pair order, whatever the thread count
+  std::vector<std::vector<CcdCollision>> chunk_found;  // scratch, one per chunk of the pairs
 
   bool empty() const { return found.empty(); }
 };
+
+// The most chunks detect_collisions cuts the pairs into (at least 256 pairs a chunk).
+constexpr int detection_chunks = 32;
 
 // Clears `collisions` and fills it with every colliding pair of the current motion.
 void detect_collisions(const CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,

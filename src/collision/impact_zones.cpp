@@ -143,7 +143,7 @@ void apply_rigid_motion(CollisionStep& step, const int* vertices, int count) {
 ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
                                       const std::vector<EdgeEdgePair>& edge_edges,
                                       const ResponseSettings& settings, ImpactZoneWorkspace& workspace,
-                                      const StrainBound* strain) {
+                                      const StrainBound* strain, const CollisionCandidates* first_pass) {
   const int n = static_cast<int>(step.x_start.cols());
   std::vector<int>& parent = workspace.parent;
   std::vector<int>& members = workspace.members;
@@ -176,7 +176,11 @@ ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<Ver
 
   ImpactZoneResult result;
   for (; result.passes < settings.max_impact_zone_passes; ++result.passes) {
-    detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
+    if (result.passes == 0 && first_pass != nullptr) {
+      detect_collisions(step, first_pass->vertex_face, first_pass->edge_edge, settings, collisions);
+    } else {
+      detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
+    }
     find_stretched();
     if (collisions.empty() && stretched.empty()) {
       result.clean = true;
@@ -213,7 +217,11 @@ ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<Ver
   // pins stretch them further. A motion with collisions stops the zones, then everything of
   // finite mass.
   if (!result.clean) {
-    detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
+    if (result.passes == 0 && first_pass != nullptr) {
+      detect_collisions(step, first_pass->vertex_face, first_pass->edge_edge, settings, collisions);
+    } else {
+      detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
+    }
     find_stretched();
     result.clean = collisions.empty() && stretched.empty();
     if (!result.clean && collisions.empty() && strain != nullptr) {
@@ -228,7 +236,11 @@ ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<Ver
   if (!result.clean && !collisions.empty()) {
     result.stopped = true;
     for (int v : members) stop_vertex(step, v);
-    detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
+    if (result.passes == 0 && first_pass != nullptr) {
+      detect_collisions(step, first_pass->vertex_face, first_pass->edge_edge, settings, collisions);
+    } else {
+      detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
+    }
     find_stretched();
     if (!collisions.empty() || !stretched.empty()) {
       for (int v = 0; v < n; ++v) stop_vertex(step, v);

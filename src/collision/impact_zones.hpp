@@ -15,6 +15,7 @@
 // free vertices are pulled to the held zones instead (resolve_impact_zones below).
 #include <vector>
 
+#include "collision/candidates.hpp"
 #include "collision/ccd_response.hpp"
 #include "collision/collision_step.hpp"
 #include "collision/contact_pairs.hpp"
@@ -62,9 +63,13 @@ void apply_rigid_motion(CollisionStep& step, const int* vertices, int count);
 // not clean: a zone holding infinite-mass vertices that move non-rigidly with respect to each
 // other (a fixed and a turning pinned edge) has no rigid motion that follows them all, and its
 // edges to them can stay over the limit.
+// `first_pass`, when given, holds the pairs the first detection tests: the caller knows every
+// other candidate free of collisions on the motion as given (a subset of the candidates, in their
+// order, so that the collisions found are those testing them all would find).
 ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<VertexFacePair>& vertex_faces,
                                       const std::vector<EdgeEdgePair>& edge_edges,
                                       const ResponseSettings& settings, ImpactZoneWorkspace& workspace,
-                                      const StrainBound* strain = nullptr);
+                                      const StrainBound* strain = nullptr,
+                                      const CollisionCandidates* first_pass = nullptr);
 
 }  // namespace weft

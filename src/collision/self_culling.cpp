@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 
 #include <omp.h>
@@ -178,13 +179,39 @@ void SelfCulling::update(const Bvh& bvh, const Positions& x_start, const Positio
   const std::vector<BvhNode>& nodes = bvh.nodes();
   const int num_nodes = static_cast<int>(nodes.size());
   culled_.assign(num_nodes, 0);
-  if (!settings.enabled || num_nodes == 0) return;
+  if (!settings.enabled || num_nodes == 0) {
+    last_.build = -1;
+    return;
+  }
   if (prepared_build_ != bvh.builds() || static_cast<int>(disk_.size()) != num_nodes) prepare(bvh);
+
+  // What changed since the last update: everything unless it ran on this build with the same
+  // margin and cone; else the vertices whose start or end moved (bitwise), the triangles with
+  // such a corner and the nodes above those.
+  const Triangles& triangles = bvh.triangles();
+  const int num_triangles = static_cast<int>(triangles.cols());
+  const int num_vertices = static_cast<int>(x_end.cols());
+  const bool reuse = last_.build == bvh.builds() && last_.margin == margin &&
+                     last_.max_cone_angle == settings.max_cone_angle &&
+                     last_.x_start.cols() == num_vertices && last_.x_end.cols() == num_vertices &&
+                     static_cast<int>(last_.culled.size()) == num_nodes;
+  changed_vertices_.assign(num_vertices, reuse ? 0 : 1);
+  if (reuse) {
+    const auto differs = [](const Positions& a, const Positions& b, int v) {
+      return std::memcmp(a.col(v).data(), b.col(v).data(), 3 * sizeof(double)) != 0;
+    };
+    for (int v = 0; v < num_vertices; ++v) {
+      changed_vertices_[v] = differs(x_start, last_.x_start, v) || differs(x_end, last_.x_end, v);
+    }
+  }
+  changed_triangles_.resize(num_triangles);
+  for (int t = 0; t < num_triangles; ++t) {
+    changed_triangles_[t] = changed_vertices_[triangles(0, t)] || changed_vertices_[triangles(1, t)] ||
+                            changed_vertices_[triangles(2, t)];
+  }
 
   // Per triangle: the three directions whose cone holds n(t) over the step, and n0 + n1 for the
   // axes (area weighted).
-  const Triangles& triangles = bvh.triangles();
-  const int num_triangles = static_cast<int>(triangles.cols());
   unit_normals_.resize(3 * static_cast<size_t>(num_triangles));
   degenerate_.resize(num_triangles);
   triangle_axes_.resize(num_triangles);
@@ -192,6 +219,7 @@ void SelfCulling::update(const Bvh& bvh, const Positions& x_start, const Positio
   std::vector<Vec3>& unit = unit_normals_;
 #pragma omp parallel for schedule(static) if (num_triangles > 4096)
   for (int t = 0; t < num_triangles; ++t) {
+    if (!changed_triangles_[t]) continue;
     const Vec3 a0 = x_start.col(triangles(0, t)), b0 = x_start.col(triangles(1, t)), c0 = x_start.col(triangles(2, t));
     const Vec3 a1 = x_end.col(triangles(0, t)), b1 = x_end.col(triangles(1, t)), c1 = x_end.col(triangles(2, t));
     const Vec3 e1_start = b0 - a0, e2_start = c0 - a0, e1_end = b1 - a1, e2_end = c1 - a1;
@@ -205,13 +233,19 @@ void SelfCulling::update(const Bvh& bvh, const Positions& x_start, const Positio
     }
   }
   const std::vector<int>& order = bvh.triangle_order();
+  changed_nodes_.resize(num_nodes);
   for (int k = num_nodes - 1; k >= 0; --k) {
     if (nodes[k].is_leaf()) {
+      bool changed = false;
+      for (int i = range_begin_[k]; i < range_end_[k]; ++i) changed = changed || changed_triangles_[order[i]];
+      changed_nodes_[k] = changed;
+      if (!changed) continue;
       Vec3 sum = Vec3::Zero();
       for (int i = range_begin_[k]; i < range_end_[k]; ++i) sum += triangle_axes_[order[i]];
       axis_sums_[k] = sum;
     } else {
-      axis_sums_[k] = axis_sums_[k + 1] + axis_sums_[nodes[k].right];
+      changed_nodes_[k] = changed_nodes_[k + 1] || changed_nodes_[nodes[k].right];
+      if (changed_nodes_[k]) axis_sums_[k] = axis_sums_[k + 1] + axis_sums_[nodes[k].right];
     }
   }
 
@@ -219,14 +253,22 @@ void SelfCulling::update(const Bvh& bvh, const Positions& x_start, const Positio
   // nodes above subtrees of at most `small` nodes are walked first; those subtrees (the ones no
   // culled node above holds) then in parallel, each thread with its own contour scratch and counts.
   const double cos_limit = std::cos(settings.max_cone_angle);
-  // Tests node k where it is a disk and culls it if it holds; returns the next node of the walk
-  // (past k's subtree when culled).
+  reached_.assign(num_nodes, 0);
+  // Tests node k where it is a disk and culls it if it holds (its last decision where nothing in
+  // it changed and the last walk reached it); returns the next node of the walk (past k's subtree
+  // when culled).
   const auto visit = [&](int k, std::vector<Segment>& segments, SelfCullingStats& stats) {
+    reached_[k] = 1;
     if (!disk_[k]) return k + 1;
     ++stats.nodes_tested;
-    const double length = axis_sums_[k].norm();
-    const bool cull = length > 0.0 && cone_holds(order, k, axis_sums_[k] / length, cos_limit) &&
-                      contour_simple(k, axis_sums_[k] / length, x_start, x_end, margin, segments);
+    bool cull = false;
+    if (!changed_nodes_[k] && last_.reached[k]) {
+      cull = last_.culled[k] != 0;
+    } else {
+      const double length = axis_sums_[k].norm();
+      cull = length > 0.0 && cone_holds(order, k, axis_sums_[k] / length, cos_limit) &&
+             contour_simple(k, axis_sums_[k] / length, x_start, x_end, margin, segments);
+    }
     if (!cull) return k + 1;
     culled_[k] = 1;
     ++stats.nodes_culled;
@@ -258,6 +300,13 @@ void SelfCulling::update(const Bvh& bvh, const Positions& x_start, const Positio
     stats_.nodes_culled += stats.nodes_culled;
     stats_.triangles_culled += stats.triangles_culled;
   }
+  last_.build = bvh.builds();
+  last_.margin = margin;
+  last_.max_cone_angle = settings.max_cone_angle;
+  last_.x_start = x_start;
+  last_.x_end = x_end;
+  last_.reached.swap(reached_);
+  last_.culled = culled_;
 }
 
 bool SelfCulling::cone_holds(const std::vector<int>& order, int node, const Vec3& axis, double cos_limit) const {

@@ -45,7 +45,11 @@ class SelfCulling {
   void prepare(const Bvh& bvh);
 
   // Decides which nodes of `bvh` (built or refitted over x_start -> x_end) are culled for this
-  // step; `margin` is the proximity distance the query's boxes were inflated by.
+  // step; `margin` is the proximity distance the query's boxes were inflated by. A node's decision
+  // depends on its own triangles' vertices alone: called again on the same hierarchy with the
+  // same margin and settings (the collision phase's check of its corrected motion), it decides
+  // again only the nodes with a vertex whose motion changed, or that the last call did not reach
+  // (under a culled node then), and keeps the others' decisions: the same flags as a fresh call.
   void update(const Bvh& bvh, const Positions& x_start, const Positions& x_end, double margin,
               const SelfCullingSettings& settings = {});
 
@@ -88,6 +92,20 @@ class SelfCulling {
   std::vector<Vec3> axis_sums_;       // per node: sum of n0 + n1 (area weighted) below it
   std::vector<char> culled_;
   SelfCullingStats stats_;
+  // What the last update() decided on, for the next one to tell which nodes it must decide again.
+  struct LastUpdate {
+    int build = -1;  // Bvh::builds(); -1: none to reuse
+    double margin = 0.0;
+    double max_cone_angle = 0.0;
+    Positions x_start, x_end;
+    std::vector<char> reached;  // per node: the walk decided it (no culled ancestor)
+    std::vector<char> culled;   // per node: its decision
+  };
+  LastUpdate last_;
+  std::vector<char> changed_vertices_;  // per vertex: its motion differs from last_'s
+  std::vector<char> changed_triangles_;
+  std::vector<char> changed_nodes_;  // a triangle below has a changed vertex
+  std::vector<char> reached_;        // this update's walk
 
   // Scratch of the contour test, one a thread.
   struct Segment {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 
 #include "collision/contact_impulse.hpp"
 #include "collision/edge_edge.hpp"
@@ -548,6 +549,7 @@ void CollisionPhase::apply_ccd_impulses() {
   const size_t first_record = records_.size();
   ++stats_.rounds;
   stats_.clean = false;
+  clean_snapshot_ = false;
   const CollisionCandidates* tested = &candidates_;
   for (int pass = 0; pass < settings.max_ccd_passes; ++pass) {
     auto start = Clock::now();
@@ -555,6 +557,8 @@ void CollisionPhase::apply_ccd_impulses() {
     stats_.narrow_ms += milliseconds_since(start);
     if (collisions_.empty()) {
       stats_.clean = true;
+      clean_x_end_ = x_end_;
+      clean_snapshot_ = true;
       break;
     }
     start = Clock::now();
@@ -569,7 +573,13 @@ void CollisionPhase::apply_ccd_impulses() {
     stats_.response_ms += milliseconds_since(start);
     if (pass + 1 < settings.max_ccd_passes) {
       start = Clock::now();
-      list_pairs_to_retest();
+      retest_flags_.assign(x_end_.cols(), 0);
+      for (const CcdCollision& collision : collisions_.found) {
+        for (const int v : collision.stencil.vertices) {
+          if (v >= 0) retest_flags_[v] = 1;
+        }
+      }
+      list_pairs_touching(retest_flags_, retested_);
       tested = &retested_;
       stats_.narrow_ms += milliseconds_since(start);
     }
@@ -577,27 +587,20 @@ void CollisionPhase::apply_ccd_impulses() {
   label_records(first_record);
 }
 
-// The candidates with a vertex of a collision in collisions_ (in candidate order), as retested_.
-void CollisionPhase::list_pairs_to_retest() {
-  retest_flags_.assign(x_end_.cols(), 0);
-  for (const CcdCollision& collision : collisions_.found) {
-    for (const int v : collision.stencil.vertices) {
-      if (v >= 0) retest_flags_[v] = 1;
-    }
-  }
-  const auto flagged = [&](int v) { return retest_flags_[v] != 0; };
-  retested_.vertex_face.clear();
-  retested_.edge_edge.clear();
+void CollisionPhase::list_pairs_touching(const std::vector<char>& flags, CollisionCandidates& out) const {
+  const auto flagged = [&](int v) { return flags[v] != 0; };
+  out.vertex_face.clear();
+  out.edge_edge.clear();
   for (const VertexFacePair& pair : candidates_.vertex_face) {
     const auto corners = triangles_.col(pair.triangle);
     if (flagged(pair.vertex) || flagged(corners[0]) || flagged(corners[1]) || flagged(corners[2])) {
-      retested_.vertex_face.push_back(pair);
+      out.vertex_face.push_back(pair);
     }
   }
   for (const EdgeEdgePair& pair : candidates_.edge_edge) {
     if (flagged(edges_(0, pair.edge_a)) || flagged(edges_(1, pair.edge_a)) ||
         flagged(edges_(0, pair.edge_b)) || flagged(edges_(1, pair.edge_b))) {
-      retested_.edge_edge.push_back(pair);
+      out.edge_edge.push_back(pair);
     }
   }
 }
@@ -611,9 +614,23 @@ void CollisionPhase::apply_impact_zones() {
   CollisionStep step = make_step();
   // With a strain limit, edges still over it join zones too (impact_zones.hpp).
   const StrainBound strain{edge_rest_length_, settings.strain_limit};
+  // When the CCD passes left the motion clean, only the strain limiter has moved vertices since: a
+  // pair none of whose vertices moved is still free of collisions (detection reads its vertices'
+  // motion alone), so the zones' first detection tests the others only, and finds what testing
+  // every candidate would, in the same order.
+  const CollisionCandidates* first_pass = nullptr;
+  if (clean_snapshot_) {
+    retest_flags_.assign(x_end_.cols(), 0);
+    for (Eigen::Index v = 0; v < x_end_.cols(); ++v) {
+      retest_flags_[v] =
+          std::memcmp(x_end_.col(v).data(), clean_x_end_.col(v).data(), 3 * sizeof(double)) != 0;
+    }
+    list_pairs_touching(retest_flags_, zone_first_pairs_);
+    first_pass = &zone_first_pairs_;
+  }
   const ImpactZoneResult zones =
-      resolve_impact_zones(step, candidates_.vertex_face, candidates_.edge_edge, ccd_settings(), zone_workspace_,
-                           settings.strain_limit > 0.0 ? &strain : nullptr);
+      resolve_impact_zones(step, candidates_.vertex_face, candidates_.edge_edge, ccd_settings(),
+                           zone_workspace_, settings.strain_limit > 0.0 ? &strain : nullptr, first_pass);
   stats_.impact_zone_vertices += zones.zone_vertices;
   stats_.held_pins += zones.held;
   // Pins held at their start did not follow their script: the step is not reported clean. Edges

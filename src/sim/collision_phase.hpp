@@ -227,7 +227,8 @@ class CollisionPhase {
   ResponseSettings ccd_settings() const;
   double box_margin() const { return 0.5 * max_thickness_; }
   void label_records(size_t first);
-  void list_pairs_to_retest();
+  // The candidates with a vertex flagged in `flags` (per vertex), in candidate order, into `out`.
+  void list_pairs_touching(const std::vector<char>& flags, CollisionCandidates& out) const;
 
   std::vector<MeshSlot> meshes_;            // cloths first, then colliders
   std::vector<ContactMaterial> materials_;  // per cloth
@@ -258,7 +259,12 @@ class CollisionPhase {
   CollisionCandidates candidates_;
   CollisionCandidates verify_candidates_;
   CollisionCandidates retested_;    // apply_ccd_impulses: the pairs a pass after the first tests
-  std::vector<char> retest_flags_;  // per vertex: in a collision the last pass found
+  std::vector<char> retest_flags_;  // per vertex: list_pairs_touching's flags (a vertex to test again)
+  // apply_ccd_impulses: the motion its passes left clean (when they did), for apply_impact_zones
+  // to test again only the pairs with a vertex moved since (zone_first_pairs_).
+  Positions clean_x_end_;
+  bool clean_snapshot_ = false;
+  CollisionCandidates zone_first_pairs_;
   CollisionCandidates region_candidates_, region_immovable_;  // query_broken_regions' lists
   CollisionCandidates immovable_candidates_;  // the pairs drop_immovable_pairs took out of query_candidates's
   std::vector<char> culled_before_;  // verify_motion: the culling the candidates were found with

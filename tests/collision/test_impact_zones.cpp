@@ -152,6 +152,46 @@ TEST(ImpactZones, PinsDrivingClothThroughClothAreHeldWhereTheyMayBe) {
   }
 }
 
+TEST(ImpactZones, AFirstPassOverThePairsThatMayCollideResolvesAsTheFullOne) {
+  // A vertex falling through a still triangle, and far off a second triangle with a vertex resting
+  // above it. The collision phase hands the zones, when the CCD passes ended clean, only the pairs
+  // with a vertex moved since (CollisionPhase::apply_impact_zones); the others are collision-free,
+  // and the zones must end exactly as with every pair tested.
+  const auto make_scene = [] {
+    test::CollisionScene scene;
+    const Vec3 still = Vec3::Zero();
+    for (const Vec3& corner : {Vec3(-0.1, 0.0, -0.1), Vec3(0.1, 0.0, -0.1), Vec3(0.0, 0.0, 0.1)})
+      scene.add_vertex(corner, still, 1.0);
+    scene.add_vertex(Vec3(0.0, 0.01, 0.0), Vec3(0.0, -0.02 / scene.h, 0.0), 1.0);
+    for (const Vec3& corner : {Vec3(4.9, 0.0, -0.1), Vec3(5.1, 0.0, -0.1), Vec3(5.0, 0.0, 0.1)})
+      scene.add_vertex(corner, still, 1.0);
+    scene.add_vertex(Vec3(5.0, 0.01, 0.0), still, 1.0);
+    scene.add_triangle(0, 1, 2);
+    scene.add_triangle(4, 5, 6);
+    return scene;
+  };
+  test::CollisionScene full = make_scene(), restricted = make_scene();
+  CollisionCandidates first_pass;
+  for (const VertexFacePair& pair : restricted.all_vertex_faces()) {
+    if (pair.vertex == 3 || pair.triangle == 0) first_pass.vertex_face.push_back(pair);
+  }
+  ASSERT_LT(first_pass.vertex_face.size(), restricted.all_vertex_faces().size());
+  ImpactZoneWorkspace full_workspace, restricted_workspace;
+  CollisionStep full_step = full.step(), restricted_step = restricted.step();
+  const ImpactZoneResult full_result = resolve_impact_zones(
+      full_step, full.all_vertex_faces(), full.all_edge_edges(), ResponseSettings{}, full_workspace);
+  const ImpactZoneResult restricted_result =
+      resolve_impact_zones(restricted_step, restricted.all_vertex_faces(), restricted.all_edge_edges(),
+                           ResponseSettings{}, restricted_workspace, nullptr, &first_pass);
+  EXPECT_TRUE(full_result.clean);
+  EXPECT_GE(full_result.zone_vertices, 4) << "the falling vertex and the triangle it met became a zone";
+  EXPECT_EQ(restricted_result.passes, full_result.passes);
+  EXPECT_EQ(restricted_result.zone_vertices, full_result.zone_vertices);
+  EXPECT_EQ(restricted_result.clean, full_result.clean);
+  EXPECT_TRUE(restricted.x_end == full.x_end);
+  EXPECT_TRUE(restricted.velocity == full.velocity);
+}
+
 // A strip of 12 vertices whose first vertex is a pin lifted 0.5 m over the step, the rest at rest:
 // the zones grow from the pin one vertex a pass through the edges it stretches.
 Strip lifted_strip() {

@@ -80,6 +80,39 @@ TEST(SelfCulling, FlatFallingSheetIsCulledWhole) {
   EXPECT_EQ(pairs, find_self_pairs(bvh)) << "culling off changes nothing";
 }
 
+// The collision phase updates the culling again on its corrected motion, where few vertices moved:
+// the update then decides again only the nodes holding a moved vertex (or newly reached), and must
+// flag exactly what a fresh culling decides, through a crumple that breaks culled regions and the
+// motion put back.
+TEST(SelfCulling, AnUpdateOnChangedMotionDecidesAsAFreshOne) {
+  const TriangleMesh grid = make_grid(24, 24, 1.0, 1.0, GridTriangulation::alternating);
+  Positions x_end = grid.positions;
+  for (int v = 0; v < x_end.cols(); ++v) x_end(2, v) = 0.02 * std::sin(3.0 * x_end(0, v)) - 0.01;
+  Bvh bvh;
+  bvh.build(grid.positions, x_end, grid.triangles, 0.0025);
+  SelfCulling kept;
+  kept.update(bvh, grid.positions, x_end, 0.005);
+  const std::vector<char> smooth = kept.culled();
+
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.03, 0.03);
+  Positions crumpled = x_end;
+  for (int v = 0; v < crumpled.cols(); ++v) {
+    if (crumpled(0, v) > 0.2 && crumpled(1, v) > 0.2)
+      crumpled.col(v) += Vec3(jitter(rng), jitter(rng), jitter(rng));
+  }
+  for (const Positions* motion : {&crumpled, &x_end, &crumpled}) {
+    kept.update(bvh, grid.positions, *motion, 0.005);
+    SelfCulling fresh;
+    fresh.update(bvh, grid.positions, *motion, 0.005);
+    EXPECT_EQ(kept.culled(), fresh.culled());
+    EXPECT_EQ(kept.stats().nodes_tested, fresh.stats().nodes_tested);
+    EXPECT_EQ(kept.stats().nodes_culled, fresh.stats().nodes_culled);
+    EXPECT_EQ(kept.stats().triangles_culled, fresh.stats().triangles_culled);
+  }
+  EXPECT_NE(kept.culled(), smooth) << "the crumple broke culled regions";
+}
+
 // A sheet folded over itself with a 4 mm gap (the folded part mirrored onto the rest): the root cannot be culled (its normals point both
 // ways), and every pair between the two layers is still reported.
 TEST(SelfCulling, FoldedSheetKeepsThePairsBetweenItsLayers) {
