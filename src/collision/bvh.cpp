@@ -119,21 +119,54 @@ void Bvh::refit(const Positions& x_start, const Positions& x_end, double margin)
   refit_nodes();
 }
 
+void Bvh::refit_moved(const Positions& x_start, const Positions& x_end, double margin,
+                      const std::vector<char>& moved) {
+  check_positions(x_start, x_end, margin, "Bvh::refit_moved");
+  if (x_start.cols() != num_vertices_ || static_cast<int>(moved.size()) != num_vertices_) {
+    throw std::invalid_argument("Bvh::refit_moved: built for " + std::to_string(num_vertices_) +
+                                " vertices, got " + std::to_string(x_start.cols()) + " positions and " +
+                                std::to_string(moved.size()) + " flags");
+  }
+  const int num_triangles = this->num_triangles();
+  moved_entries_.resize(num_triangles);
+  for (int t = 0; t < num_triangles; ++t) {
+    moved_entries_[t] = moved[triangles_(0, t)] || moved[triangles_(1, t)] || moved[triangles_(2, t)];
+    if (moved_entries_[t]) triangle_boxes_[t] = triangle_box(t, x_start, x_end, margin);
+  }
+  // Children come after their parent in preorder: a reverse sweep sees them first.
+  const int num_nodes = static_cast<int>(nodes_.size());
+  moved_nodes_.resize(num_nodes);
+  for (int i = num_nodes - 1; i >= 0; --i) {
+    const BvhNode& node = nodes_[i];
+    bool below = false;
+    if (node.is_leaf()) {
+      for (int k = 0; k < node.count; ++k) below = below || moved_entries_[triangle_order_[node.first + k]];
+    } else {
+      below = moved_nodes_[i + 1] || moved_nodes_[node.right];
+    }
+    moved_nodes_[i] = below;
+    if (below) refit_node(i);
+  }
+  sum_cost();
+}
+
+Aabb Bvh::triangle_box(int t, const Positions& x_start, const Positions& x_end, double margin) const {
+  // The box over the triangle's three vertices at both ends of the step, then inflated.
+  Aabb box;
+  for (int k = 0; k < 3; ++k) {
+    const int v = triangles_(k, t);
+    box.grow(Vec3(x_start.col(v)));
+    box.grow(Vec3(x_end.col(v)));
+  }
+  box.lower.array() -= margin;
+  box.upper.array() += margin;
+  return box;
+}
+
 void Bvh::compute_triangle_boxes(const Positions& x_start, const Positions& x_end, double margin) {
-  // Each triangle's box over its three vertices at both ends of the step, then inflated.
   const int num_triangles = this->num_triangles();
 #pragma omp parallel for schedule(static) if (num_triangles > parallel_refit_threshold)
-  for (int t = 0; t < num_triangles; ++t) {
-    Aabb box;
-    for (int k = 0; k < 3; ++k) {
-      const int v = triangles_(k, t);
-      box.grow(Vec3(x_start.col(v)));
-      box.grow(Vec3(x_end.col(v)));
-    }
-    box.lower.array() -= margin;
-    box.upper.array() += margin;
-    triangle_boxes_[t] = box;
-  }
+  for (int t = 0; t < num_triangles; ++t) triangle_boxes_[t] = triangle_box(t, x_start, x_end, margin);
 }
 
 void Bvh::build_nodes() {
@@ -235,28 +268,29 @@ void Bvh::build_nodes() {
   }
 }
 
+void Bvh::refit_node(int i) {
+  BvhNode& node = nodes_[i];
+  Aabb box;
+  if (node.is_leaf()) {
+    for (int k = 0; k < node.count; ++k) {
+      const Aabb& leaf_box = triangle_boxes_[triangle_order_[node.first + k]];
+      leaf_boxes_[node.first + k] = leaf_box;
+      box.grow(leaf_box);
+    }
+  } else {
+    box = nodes_[i + 1].box;
+    box.grow(nodes_[node.right].box);
+  }
+  node.box = box;
+  node_areas_[i] = box.surface_area();
+}
+
 void Bvh::refit_nodes() {
   // Children come after their parent in preorder, so a reverse sweep sees them first. Subtrees
   // of at most `small` nodes are swept in parallel, then the nodes above them; the areas are
   // summed afterwards in the reverse order of the serial sweep, so the cost is the same bits.
   const int num_nodes = static_cast<int>(nodes_.size());
   node_areas_.resize(num_nodes);
-  const auto refit_node = [&](int i) {
-    BvhNode& node = nodes_[i];
-    Aabb box;
-    if (node.is_leaf()) {
-      for (int k = 0; k < node.count; ++k) {
-        const Aabb& leaf_box = triangle_boxes_[triangle_order_[node.first + k]];
-        leaf_boxes_[node.first + k] = leaf_box;
-        box.grow(leaf_box);
-      }
-    } else {
-      box = nodes_[i + 1].box;
-      box.grow(nodes_[node.right].box);
-    }
-    node.box = box;
-    node_areas_[i] = box.surface_area();
-  };
   const int small = std::max(64, num_nodes / 64);
   subtrees_.clear();
   upper_nodes_.clear();
@@ -275,6 +309,11 @@ void Bvh::refit_nodes() {
     for (int i = nodes_[subtrees_[j]].next - 1; i >= subtrees_[j]; --i) refit_node(i);
   }
   for (auto k = upper_nodes_.rbegin(); k != upper_nodes_.rend(); ++k) refit_node(*k);
+  sum_cost();
+}
+
+void Bvh::sum_cost() {
+  const int num_nodes = static_cast<int>(nodes_.size());
   double total_area = 0.0;
   for (int i = num_nodes - 1; i >= 0; --i) total_area += node_areas_[i];
   const double root_area = nodes_.empty() ? 0.0 : nodes_[0].box.surface_area();
@@ -331,25 +370,6 @@ void find_triangles_in_box(const Bvh& bvh, const Aabb& box, std::vector<int>& tr
     ++i;
   }
   std::sort(triangles.begin(), triangles.end());
-}
-
-void find_pairs_of(const Bvh& first, const std::vector<int>& triangles, const Bvh& second, bool same_mesh,
-                   std::vector<TrianglePair>& pairs, std::vector<int>& scratch,
-                   SharedVertexPairs shared_vertex_pairs) {
-  const bool keep_neighbours = shared_vertex_pairs == SharedVertexPairs::keep;
-  pairs.clear();
-  for (const int a : triangles) {
-    find_triangles_in_box(second, first.triangle_boxes()[a], scratch);
-    for (const int b : scratch) {
-      if (!same_mesh) {
-        pairs.push_back({a, b});
-      } else if (a != b && (keep_neighbours || !share_vertex(first.triangles(), a, b))) {
-        pairs.push_back({std::min(a, b), std::max(a, b)});
-      }
-    }
-  }
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 }
 
 }  // namespace weft

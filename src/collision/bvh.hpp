@@ -77,6 +77,10 @@ class Bvh {
   // Throws std::invalid_argument if the vertex count differs from the one at build.
   void refit(const Positions& x_start, const Positions& x_end, double margin);
   void refit(const Positions& x, double margin) { refit(x, x, margin); }
+  // refit() when only the vertices flagged in `moved` (per vertex) have changed since the last
+  // build or refit, with the same margin: the boxes of the triangles they touch and of the nodes
+  // above those are recomputed, the others kept. The same boxes and cost() as refit().
+  void refit_moved(const Positions& x_start, const Positions& x_end, double margin, const std::vector<char>& moved);
 
   // Tree quality: the sum of the surface areas of all nodes over the root's, roughly the
   // expected number of nodes a small query box visits. cost() is the value now, cost_at_build()
@@ -103,8 +107,11 @@ class Bvh {
 
  private:
   void compute_triangle_boxes(const Positions& x_start, const Positions& x_end, double margin);
+  Aabb triangle_box(int t, const Positions& x_start, const Positions& x_end, double margin) const;
   void build_nodes();
   void refit_nodes();
+  void refit_node(int i);  // node i's box (and a leaf's boxes in leaf order) from below, and its area
+  void sum_cost();         // cost_ from node_areas_
 
   BvhSettings settings_;
   Triangles triangles_;  // copy of the mesh's triangles (3 x n_triangles)
@@ -128,6 +135,8 @@ class Bvh {
   std::vector<double> node_areas_;
   std::vector<int> subtrees_;
   std::vector<int> upper_nodes_;
+  std::vector<char> moved_entries_;  // refit_moved's scratch: per triangle, per node
+  std::vector<char> moved_nodes_;
   double cost_ = 0.0;
   double cost_at_build_ = 0.0;
   int builds_ = 0;
@@ -177,16 +186,6 @@ std::vector<TrianglePair> find_self_pairs(const Bvh& bvh,
 void find_pairs_between(const Bvh& first, const Bvh& second, BvhQueryBuffers& buffers,
                         std::vector<TrianglePair>& pairs);
 std::vector<TrianglePair> find_pairs_between(const Bvh& first, const Bvh& second);
-
-// Pairs of the listed triangles of `first` with the triangles of `second` whose boxes overlap
-// theirs (boxes of the last build or refit), as (a of first, b of second), sorted and each once.
-// With `same_mesh` (`second` is `first`) a triangle is not paired with itself nor, unless
-// `shared_vertex_pairs` keeps them, with one it shares a vertex with, and pairs are (min, max).
-// For re-querying the few triangles whose motion changed after the full query. Single-threaded;
-// replaces `pairs`, `scratch` is the per-triangle result.
-void find_pairs_of(const Bvh& first, const std::vector<int>& triangles, const Bvh& second, bool same_mesh,
-                   std::vector<TrianglePair>& pairs, std::vector<int>& scratch,
-                   SharedVertexPairs shared_vertex_pairs = SharedVertexPairs::skip);
 
 // Triangles whose boxes overlap `box` (picking, analytic colliders), sorted. Single-threaded,
 // no stack: replaces the contents of `triangles` and allocates only if it must grow.

@@ -285,33 +285,56 @@ void list_moved_primitives(const PrimitiveMesh& mesh, const std::vector<char>& m
 
 void append_moved_primitive_candidates(const PrimitiveMesh& mesh, const MovedPrimitives& listed,
                                        const PrimitiveMesh& other, bool self, const SweptVertexBoxes& boxes,
-                                       std::vector<TrianglePair>& pairs, std::vector<int>& scratch,
+                                       std::vector<std::vector<int>>& thread_scratch,
                                        CollisionCandidates& candidates) {
   if (listed.empty()) return;
-  const auto add_vertex_face_pair = [&](const PrimitiveMesh& vertices, int v, const PrimitiveMesh& faces,
-                                        int t) {
-    if (self) {
-      add_vertex_face<true>(vertices, v, faces, t, boxes, candidates.vertex_face);
-    } else {
-      add_vertex_face<false>(vertices, v, faces, t, boxes, candidates.vertex_face);
-    }
-  };
-  // Moved vertices against the other mesh's triangles.
-  find_pairs_of(mesh.vertex_bvh, listed.vertices, other.triangle_bvh, false, pairs, scratch);
-  for (const TrianglePair& pair : pairs) add_vertex_face_pair(mesh, pair.a, other, pair.b);
-  // Triangles with a moved corner against the other mesh's vertices.
-  find_pairs_of(mesh.triangle_bvh, listed.triangles, other.vertex_bvh, false, pairs, scratch);
-  for (const TrianglePair& pair : pairs) add_vertex_face_pair(other, pair.b, mesh, pair.a);
-  // Edges with a moved end against the other mesh's edges (within one mesh, each pair once and
-  // none sharing an end: find_pairs_of with same_mesh writes (min, max) and skips those).
-  find_pairs_of(mesh.edge_bvh, listed.edges, other.edge_bvh, self, pairs, scratch);
-  for (const TrianglePair& pair : pairs) {
-    if (self) {
-      add_edge_edge<true>(mesh, pair.a, other, pair.b, boxes, candidates.edge_edge);
-    } else {
-      add_edge_edge<false>(mesh, pair.a, other, pair.b, boxes, candidates.edge_edge);
+  const int threads = query_threads();
+  prepare_thread_lists(candidates, threads);
+  if (static_cast<int>(thread_scratch.size()) < threads) thread_scratch.resize(threads);
+  const int num_vertices = static_cast<int>(listed.vertices.size());
+  const int num_triangles = static_cast<int>(listed.triangles.size());
+  const int total = num_vertices + num_triangles + static_cast<int>(listed.edges.size());
+  // Each listed primitive's box against the other mesh's hierarchy, the primitives shared among
+  // the threads. A pair met from both its primitives (both listed) is written twice; the caller's
+  // sort_candidates() keeps it once.
+#pragma omp parallel for schedule(dynamic, 8) num_threads(threads) if (total > 64)
+  for (int k = 0; k < total; ++k) {
+    const int thread = omp_get_thread_num();
+    std::vector<int>& found = thread_scratch[thread];
+    std::vector<VertexFacePair>& vertex_faces = candidates.thread_vertex_faces[thread];
+    if (k < num_vertices) {  // a moved vertex against the other mesh's triangles
+      const int v = listed.vertices[k];
+      find_triangles_in_box(other.triangle_bvh, mesh.vertex_bvh.triangle_boxes()[v], found);
+      for (const int t : found) {
+        if (self) {
+          add_vertex_face<true>(mesh, v, other, t, boxes, vertex_faces);
+        } else {
+          add_vertex_face<false>(mesh, v, other, t, boxes, vertex_faces);
+        }
+      }
+    } else if (k < num_vertices + num_triangles) {  // a triangle with a moved corner against its vertices
+      const int t = listed.triangles[k - num_vertices];
+      find_triangles_in_box(other.vertex_bvh, mesh.triangle_bvh.triangle_boxes()[t], found);
+      for (const int v : found) {
+        if (self) {
+          add_vertex_face<true>(other, v, mesh, t, boxes, vertex_faces);
+        } else {
+          add_vertex_face<false>(other, v, mesh, t, boxes, vertex_faces);
+        }
+      }
+    } else {  // an edge with a moved end against its edges (add_edge_edge skips shared ends)
+      const int e = listed.edges[k - num_vertices - num_triangles];
+      find_triangles_in_box(other.edge_bvh, mesh.edge_bvh.triangle_boxes()[e], found);
+      for (const int f : found) {
+        if (self) {
+          add_edge_edge<true>(mesh, e, other, f, boxes, candidates.thread_edge_edges[thread]);
+        } else {
+          add_edge_edge<false>(mesh, e, other, f, boxes, candidates.thread_edge_edges[thread]);
+        }
+      }
     }
   }
+  join_thread_lists(candidates);
 }
 
 }  // namespace weft

@@ -95,11 +95,12 @@ void list_moved_primitives(const PrimitiveMesh& mesh, const std::vector<char>& m
 // The re-query of CollisionPhase::verify_motion: appends every candidate of `mesh` against
 // `other` (the same mesh when `self`) that has a vertex of `listed`, queried with the boxes
 // the hierarchies were last refitted with. Pairs without a listed vertex are not written; they
-// are candidates already if their boxes did not change. Single-threaded (few vertices move);
-// `pairs` and `scratch` are its buffers. Unsorted, as above.
+// are candidates already if their boxes did not change. Runs over the OpenMP threads, each with
+// its box query's scratch in `thread_scratch`. Unsorted and possibly with repeats: sort_candidates()
+// after.
 void append_moved_primitive_candidates(const PrimitiveMesh& mesh, const MovedPrimitives& listed,
                                        const PrimitiveMesh& other, bool self, const SweptVertexBoxes& boxes,
-                                       std::vector<TrianglePair>& pairs, std::vector<int>& scratch,
+                                       std::vector<std::vector<int>>& thread_scratch,
                                        CollisionCandidates& candidates);
 
 }  // namespace weft

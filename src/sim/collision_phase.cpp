@@ -735,15 +735,16 @@ void CollisionPhase::query_escaped_candidates(CollisionCandidates& candidates) {
     vertex_upper_.col(v) = vertex_upper_.col(v).cwiseMax(x_end_.col(v));
     escaped_flags_[v] = 1;
   }
-  // A box over the vertices' boxes is the box over both ends of their motion. Only cloths move
-  // in the response, and a cloth without escaped vertices keeps the boxes of its last refit.
+  // A box over the vertices' boxes is the box over both ends of their motion: the hierarchies'
+  // boxes are the last refit's but where an escaped vertex's box grew (Bvh::refit_moved). Only
+  // cloths move in the response, and a cloth without escaped vertices keeps its boxes.
   for (int c = 0; c < num_cloths_; ++c) {
     MeshSlot& slot = meshes_[c];
     const auto first = escaped_flags_.begin() + slot.offsets.vertex;
     if (std::find(first, first + slot.num_vertices, 1) != first + slot.num_vertices) {
-      slot.bvh.refit(vertex_lower_, vertex_upper_, box_margin());
-      slot.vertex_bvh.refit(vertex_lower_, vertex_upper_, box_margin());
-      slot.edge_bvh.refit(vertex_lower_, vertex_upper_, box_margin());
+      slot.bvh.refit_moved(vertex_lower_, vertex_upper_, box_margin(), escaped_flags_);
+      slot.vertex_bvh.refit_moved(vertex_lower_, vertex_upper_, box_margin(), escaped_flags_);
+      slot.edge_bvh.refit_moved(vertex_lower_, vertex_upper_, box_margin(), escaped_flags_);
     }
   }
   const SweptVertexBoxes boxes{vertex_lower_, vertex_upper_, max_thickness_};
@@ -752,13 +753,13 @@ void CollisionPhase::query_escaped_candidates(CollisionCandidates& candidates) {
     list_moved_primitives(cloth, escaped_flags_, escaped_primitives_);
     if (escaped_primitives_.empty()) continue;
     if (materials_[c].self_collision) {
-      append_moved_primitive_candidates(cloth, escaped_primitives_, cloth, true, boxes, pairs_,
-                                        box_triangles_, candidates);
+      append_moved_primitive_candidates(cloth, escaped_primitives_, cloth, true, boxes, box_triangles_,
+                                        candidates);
     }
     for (size_t other = 0; other < meshes_.size(); ++other) {
       if (other == static_cast<size_t>(c)) continue;
       append_moved_primitive_candidates(cloth, escaped_primitives_, primitive_mesh(meshes_[other]), false,
-                                        boxes, pairs_, box_triangles_, candidates);
+                                        boxes, box_triangles_, candidates);
     }
   }
   sort_candidates(candidates);

@@ -275,6 +275,44 @@ TEST(Bvh, RefitMatchesBruteForceAtNewPositions) {
   }
 }
 
+TEST(Bvh, RefitOfMovedVerticesMatchesAFullRefit) {
+  // The collision phase's verification grows the boxes of a few vertices and refits only what
+  // they touch (refit_moved): every box, the leaf order's copies and the cost must be those a
+  // full refit computes.
+  const TriangleMesh grid = crumpled_grid(21, 11);
+  const Positions x_end = displaced(grid.positions, 0.01, 77);
+  Bvh partial, full;
+  partial.build(grid.positions, x_end, grid.triangles, 0.003);
+  full.build(grid.positions, x_end, grid.triangles, 0.003);
+  Positions grown_end = x_end;
+  std::vector<char> moved(grid.positions.cols(), 0);
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> vertex(0, static_cast<int>(grid.positions.cols()) - 1);
+  for (int round = 0; round < 3; ++round) {
+    std::fill(moved.begin(), moved.end(), 0);
+    for (int k = 0; k < 6; ++k) {
+      const int v = vertex(rng);
+      grown_end.col(v) += Vec3(0.02, -0.01, 0.015);
+      moved[v] = 1;
+    }
+    partial.refit_moved(grid.positions, grown_end, 0.003, moved);
+    full.refit(grid.positions, grown_end, 0.003);
+    ASSERT_EQ(partial.nodes().size(), full.nodes().size());
+    for (size_t i = 0; i < full.nodes().size(); ++i) {
+      EXPECT_EQ(partial.nodes()[i].box.lower, full.nodes()[i].box.lower) << "node " << i;
+      EXPECT_EQ(partial.nodes()[i].box.upper, full.nodes()[i].box.upper) << "node " << i;
+    }
+    for (int t = 0; t < full.num_triangles(); ++t) {
+      EXPECT_EQ(partial.triangle_boxes()[t].lower, full.triangle_boxes()[t].lower);
+      EXPECT_EQ(partial.leaf_boxes()[t].upper, full.leaf_boxes()[t].upper);
+    }
+    EXPECT_EQ(partial.cost(), full.cost());
+    EXPECT_GT(full.cost(), full.cost_at_build()) << "the grown boxes loosened the tree";
+  }
+  EXPECT_THROW(partial.refit_moved(grid.positions, grown_end, 0.003, std::vector<char>(3, 0)),
+               std::invalid_argument);
+}
+
 TEST(Bvh, PairsBetweenTwoMeshesMatchBruteForce) {
   TriangleMesh cloth = crumpled_grid(19, 21);
   TriangleMesh other = crumpled_grid(15, 22);
@@ -330,52 +368,6 @@ TEST(Bvh, BoxQueryMatchesBruteForce) {
   EXPECT_GT(total, 100);
   find_triangles_in_box(bvh, Aabb(), found);
   EXPECT_TRUE(found.empty()) << "an empty box overlaps nothing";
-}
-
-TEST(Bvh, PairsOfListedTrianglesMatchBruteForce) {
-  // Every third triangle of a crumpled grid, against the grid itself (after a refit to moved
-  // positions) and against a second mesh: the brute-force pairs that have a listed triangle.
-  TriangleMesh cloth = crumpled_grid(19, 21);
-  const Positions moved = displaced(cloth.positions, 0.01, 25);
-  TriangleMesh other = crumpled_grid(15, 22);
-  transform_positions(other.positions, rotation_from_euler_degrees(Vec3(20.0, 70.0, 0.0)), 0.8,
-                      Vec3(0.1, 0.1, 0.0));
-  Bvh a, b;
-  a.build(cloth.positions, cloth.triangles, 0.004);
-  a.refit(cloth.positions, moved, 0.004);
-  b.build(other.positions, other.triangles, 0.004);
-  std::vector<int> listed;
-  std::vector<char> is_listed(cloth.num_triangles(), 0);
-  for (int t = 0; t < cloth.num_triangles(); t += 3) {
-    listed.push_back(t);
-    is_listed[t] = 1;
-  }
-  std::vector<TrianglePair> pairs;
-  std::vector<int> scratch;
-
-  find_pairs_of(a, listed, a, /*same_mesh=*/true, pairs, scratch);
-  std::vector<TrianglePair> expected;
-  for (const TrianglePair& pair : brute_force_self(cloth.positions, moved, cloth.triangles, 0.004)) {
-    if (is_listed[pair.a] || is_listed[pair.b]) expected.push_back(pair);
-  }
-  EXPECT_GT(expected.size(), 100u);
-  EXPECT_EQ(pairs, expected);
-
-  // Against the other mesh: the listed triangles' swept boxes against its static ones.
-  find_pairs_of(a, listed, b, /*same_mesh=*/false, pairs, scratch);
-  const std::vector<Aabb> swept = reference_boxes(cloth.positions, moved, cloth.triangles, 0.004);
-  const std::vector<Aabb> fixed = reference_boxes(other.positions, other.positions, other.triangles, 0.004);
-  std::vector<TrianglePair> swept_pairs;
-  for (const int s : listed) {
-    for (int t = 0; t < other.num_triangles(); ++t) {
-      if (boxes_overlap(swept[s], fixed[t])) swept_pairs.push_back({s, t});
-    }
-  }
-  EXPECT_GT(swept_pairs.size(), 20u);
-  EXPECT_EQ(pairs, swept_pairs);
-
-  find_pairs_of(a, {}, a, true, pairs, scratch);
-  EXPECT_TRUE(pairs.empty());
 }
 
 TEST(Bvh, ResultsIdenticalAtOneAndTwoThreads) {

@@ -407,13 +407,12 @@ TEST(PrimitiveQueries, ReQueryOfMovedVerticesGivesEveryCandidateWithAMovedVertex
 
   MovedPrimitives primitives;
   list_moved_primitives(world.meshes[0].view(), moved, primitives);
-  std::vector<TrianglePair> pairs;
-  std::vector<int> scratch;
+  std::vector<std::vector<int>> scratch;
   CollisionCandidates requery;
   append_moved_primitive_candidates(world.meshes[0].view(), primitives, world.meshes[0].view(), true,
-                                    world.boxes(), pairs, scratch, requery);
+                                    world.boxes(), scratch, requery);
   append_moved_primitive_candidates(world.meshes[0].view(), primitives, world.meshes[1].view(), false,
-                                    world.boxes(), pairs, scratch, requery);
+                                    world.boxes(), scratch, requery);
   sort_candidates(requery);
 
   // The reference: every pair of the brute force at the grown boxes with a moved vertex.
