@@ -80,7 +80,8 @@ class Bvh {
   // refit() when only the vertices flagged in `moved` (per vertex) have changed since the last
   // build or refit, with the same margin: the boxes of the triangles they touch and of the nodes
   // above those are recomputed, the others kept. The same boxes and cost() as refit().
-  void refit_moved(const Positions& x_start, const Positions& x_end, double margin, const std::vector<char>& moved);
+  void refit_moved(const Positions& x_start, const Positions& x_end, double margin,
+                   const std::vector<char>& moved);
 
   // Tree quality: the sum of the surface areas of all nodes over the root's, roughly the
   // expected number of nodes a small query box visits. cost() is the value now, cost_at_build()

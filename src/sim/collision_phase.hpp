@@ -270,7 +270,7 @@ class CollisionPhase {
   std::vector<int> escaped_vertices_;   // verify_motion: vertices whose corrected motion left their box
   std::vector<char> escaped_flags_;     // per vertex
   MovedPrimitives escaped_primitives_;  // of one cloth, touching escaped vertices
-  std::vector<std::vector<int>> box_triangles_;  // append_moved_primitive_candidates' scratch, one a thread
+  std::vector<std::vector<int>> box_triangles_;    // append_moved_primitive_candidates' scratch, one a thread
   std::vector<std::vector<int>> reach_triangles_;  // collider_contacts' scratch, one a thread
   std::vector<PenaltyContact> reach_slots_;        // collider_contacts: a vertex's contact with each collider
   std::vector<char> reach_found_;                  // ... and whether it has one
