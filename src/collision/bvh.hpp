@@ -95,6 +95,8 @@ class Bvh {
   int num_vertices() const { return num_vertices_; }
   const Triangles& triangles() const { return triangles_; }
   const std::vector<BvhNode>& nodes() const { return nodes_; }
+  // Each node's box's surface area (n_nodes), from the last build or refit.
+  const std::vector<double>& node_areas() const { return node_areas_; }
   // Triangle indices in leaf order: leaf n holds triangle_order()[first, first + count).
   const std::vector<int>& triangle_order() const { return triangle_order_; }
   // Swept, inflated box of each triangle (n_triangles), from the last build or refit.
@@ -132,8 +134,8 @@ class Bvh {
   std::vector<int> bin_counts_;
   std::vector<double> right_areas_;
   std::vector<BuildRange> ranges_;
-  // refit_nodes' scratch: each node's surface area, the subtrees swept in parallel, the nodes above.
-  std::vector<double> node_areas_;
+  std::vector<double> node_areas_;  // per node, by refit_node
+  // refit_nodes' scratch: the subtrees swept in parallel, the nodes above them.
   std::vector<int> subtrees_;
   std::vector<int> upper_nodes_;
   std::vector<char> moved_entries_;  // refit_moved's scratch: per triangle, per node

@@ -28,10 +28,10 @@ constexpr int target_task_count = 256;
 // into nothing. With `self`, (n, n) stands for the pairs within node n, which are its two
 // children's within-pairs and the pair of its children; a node flagged in `culled` has none.
 template <bool self>
-bool split_task(const std::vector<BvhNode>& first, const std::vector<BvhNode>& second, TrianglePair task,
-                const char* culled, std::vector<TrianglePair>& out) {
-  const BvhNode& a = first[task.a];
-  const BvhNode& b = second[task.b];
+bool split_task(const Bvh& first_bvh, const Bvh& second_bvh, TrianglePair task, const char* culled,
+                std::vector<TrianglePair>& out) {
+  const BvhNode& a = first_bvh.nodes()[task.a];
+  const BvhNode& b = second_bvh.nodes()[task.b];
   if (self && task.a == task.b) {
     if (culled != nullptr && culled[task.a]) return true;
     if (a.is_leaf()) return false;
@@ -43,7 +43,7 @@ bool split_task(const std::vector<BvhNode>& first, const std::vector<BvhNode>& s
   if (!a.box.overlaps(b.box)) return true;
   if (a.is_leaf() && b.is_leaf()) return false;
   // Descend the larger box, so both sides shrink at a similar pace.
-  if (b.is_leaf() || (!a.is_leaf() && a.box.surface_area() >= b.box.surface_area())) {
+  if (b.is_leaf() || (!a.is_leaf() && first_bvh.node_areas()[task.a] >= second_bvh.node_areas()[task.b])) {
     out.push_back({task.a + 1, task.b});
     out.push_back({a.right, task.b});
   } else {
@@ -98,7 +98,7 @@ void visit_overlapping_pairs(const Bvh& first, const Bvh& second, const char* cu
     next.clear();
     bool split_any = false;
     for (const TrianglePair& task : tasks) {
-      if (split_task<self>(first.nodes(), second.nodes(), task, culled, next)) {
+      if (split_task<self>(first, second, task, culled, next)) {
         split_any = true;
       } else {
         next.push_back(task);
@@ -122,7 +122,7 @@ void visit_overlapping_pairs(const Bvh& first, const Bvh& second, const char* cu
       while (!stack.empty()) {
         const TrianglePair top = stack.back();
         stack.pop_back();
-        if (!split_task<self>(first.nodes(), second.nodes(), top, culled, stack)) {
+        if (!split_task<self>(first, second, top, culled, stack)) {
           visit_leaf_pairs<self>(first, second, top.a, top.b, thread, visit);
         }
       }
