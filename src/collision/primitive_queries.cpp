@@ -297,6 +297,14 @@ void append_moved_primitive_candidates(const PrimitiveMesh& mesh, const MovedPri
   // Each listed primitive's box against the other mesh's hierarchy, the primitives shared among
   // the threads. A pair met from both its primitives (both listed) is written twice; the caller's
   // sort_candidates() keeps it once.
+  const auto add_vertex_face_pair = [&](const PrimitiveMesh& vertices, int v, const PrimitiveMesh& faces,
+                                        int t, std::vector<VertexFacePair>& out) {
+    if (self) {
+      add_vertex_face<true>(vertices, v, faces, t, boxes, out);
+    } else {
+      add_vertex_face<false>(vertices, v, faces, t, boxes, out);
+    }
+  };
 #pragma omp parallel for schedule(dynamic, 8) num_threads(threads) if (total > 64)
   for (int k = 0; k < total; ++k) {
     const int thread = omp_get_thread_num();
@@ -305,23 +313,11 @@ void append_moved_primitive_candidates(const PrimitiveMesh& mesh, const MovedPri
     if (k < num_vertices) {  // a moved vertex against the other mesh's triangles
       const int v = listed.vertices[k];
       find_triangles_in_box(other.triangle_bvh, mesh.vertex_bvh.triangle_boxes()[v], found);
-      for (const int t : found) {
-        if (self) {
-          add_vertex_face<true>(mesh, v, other, t, boxes, vertex_faces);
-        } else {
-          add_vertex_face<false>(mesh, v, other, t, boxes, vertex_faces);
-        }
-      }
+      for (const int t : found) add_vertex_face_pair(mesh, v, other, t, vertex_faces);
     } else if (k < num_vertices + num_triangles) {  // a triangle with a moved corner against its vertices
       const int t = listed.triangles[k - num_vertices];
       find_triangles_in_box(other.vertex_bvh, mesh.triangle_bvh.triangle_boxes()[t], found);
-      for (const int v : found) {
-        if (self) {
-          add_vertex_face<true>(other, v, mesh, t, boxes, vertex_faces);
-        } else {
-          add_vertex_face<false>(other, v, mesh, t, boxes, vertex_faces);
-        }
-      }
+      for (const int v : found) add_vertex_face_pair(other, v, mesh, t, vertex_faces);
     } else {  // an edge with a moved end against its edges (add_edge_edge skips shared ends)
       const int e = listed.edges[k - num_vertices - num_triangles];
       find_triangles_in_box(other.edge_bvh, mesh.edge_bvh.triangle_boxes()[e], found);
