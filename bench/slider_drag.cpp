@@ -59,7 +59,8 @@ Run run(const weft::SceneDesc& scene, int threads, const Drag* drag) {
       ClothMaterial material = weft::read_material(model);
       drag->set(material, shipped, position(frame));
       weft::apply_material(model, material);
-      result.edit_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - edit_start).count();
+      result.edit_seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - edit_start).count();
     }
     for (int k = 0; k < schedule.steps_per_frame; ++k) {
       world.step();
@@ -103,15 +104,16 @@ int main(int argc, char** argv) {
     // The material panel's stiffness sliders and the density one, each over a decade or two
     // around the shipped value (the panel's own ranges are wider).
     const std::vector<Drag> drags = {
-        {"membrane Young's modulus", [](ClothMaterial& m, const ClothMaterial& s, double p) {
+        {"membrane Young's modulus",
+         [](ClothMaterial& m, const ClothMaterial& s, double p) {
            m.membrane.young_modulus = log_between(0.1, 10.0, p) * s.membrane.young_modulus;
          }},
-        {"bending stiffness", [](ClothMaterial& m, const ClothMaterial& s, double p) {
+        {"bending stiffness",
+         [](ClothMaterial& m, const ClothMaterial& s, double p) {
            m.bending_stiffness = log_between(0.01, 100.0, p) * s.bending_stiffness;
          }},
-        {"density", [](ClothMaterial& m, const ClothMaterial& s, double p) {
-           m.area_density = log_between(0.5, 2.0, p) * s.area_density;
-         }},
+        {"density", [](ClothMaterial& m, const ClothMaterial& s,
+                       double p) { m.area_density = log_between(0.5, 2.0, p) * s.area_density; }},
     };
     std::printf("drape_sphere_fast at %dx%d, %d frames at %.0f fps, %d thread(s); wall s per simulated s\n",
                 resolution, resolution, scene.frames, scene.fps, threads);

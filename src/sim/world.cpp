@@ -276,7 +276,8 @@ void World::resolve_collisions(double h, StepStats& stats) {
     for (size_t c = 0; c < cloths_.size(); ++c) {
       // A cloth the phase left where the solve ended has the solve's U (its last evaluation).
       const IncrementalPotentialParts* unmoved = solvers_[c]->implicit.last_evaluation_at(cloths_[c].state.x);
-      const double potential = unmoved != nullptr ? unmoved->potential : potential_energy(cloths_[c], settings.gravity);
+      const double potential =
+          unmoved != nullptr ? unmoved->potential : potential_energy(cloths_[c], settings.gravity);
       energy_after += kinetic_energy(cloths_[c]) + potential;
       solvers_[c]->ledger.carry_potential(potential, settings.gravity);  // the next step starts here
     }
