@@ -1,7 +1,5 @@
 #include "collision/ccd_response.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <initializer_list>
 

@@ -175,12 +175,15 @@ ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<Ver
   };
 
   ImpactZoneResult result;
+  // Detection over the candidates; until a zone pass has moved anything, over `first_pass` when
+  // given (the caller's pairs that may collide on the motion as it came in).
+  const auto detect = [&] {
+    const bool as_given = result.passes == 0 && first_pass != nullptr;
+    detect_collisions(step, as_given ? first_pass->vertex_face : vertex_faces,
+                      as_given ? first_pass->edge_edge : edge_edges, settings, collisions);
+  };
   for (; result.passes < settings.max_impact_zone_passes; ++result.passes) {
-    if (result.passes == 0 && first_pass != nullptr) {
-      detect_collisions(step, first_pass->vertex_face, first_pass->edge_edge, settings, collisions);
-    } else {
-      detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
-    }
+    detect();
     find_stretched();
     if (collisions.empty() && stretched.empty()) {
       result.clean = true;
@@ -217,11 +220,7 @@ ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<Ver
   // pins stretch them further. A motion with collisions stops the zones, then everything of
   // finite mass.
   if (!result.clean) {
-    if (result.passes == 0 && first_pass != nullptr) {
-      detect_collisions(step, first_pass->vertex_face, first_pass->edge_edge, settings, collisions);
-    } else {
-      detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
-    }
+    detect();
     find_stretched();
     result.clean = collisions.empty() && stretched.empty();
     if (!result.clean && collisions.empty() && strain != nullptr) {
@@ -236,11 +235,7 @@ ImpactZoneResult resolve_impact_zones(CollisionStep& step, const std::vector<Ver
   if (!result.clean && !collisions.empty()) {
     result.stopped = true;
     for (int v : members) stop_vertex(step, v);
-    if (result.passes == 0 && first_pass != nullptr) {
-      detect_collisions(step, first_pass->vertex_face, first_pass->edge_edge, settings, collisions);
-    } else {
-      detect_collisions(step, vertex_faces, edge_edges, settings, collisions);
-    }
+    detect();
     find_stretched();
     if (!collisions.empty() || !stretched.empty()) {
       for (int v = 0; v < n; ++v) stop_vertex(step, v);

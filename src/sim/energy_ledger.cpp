@@ -73,7 +73,6 @@ EnergyFlows SolveLedger::implicit_euler(const Cloth& cloth, const Vec3& gravity,
   if (at_end != nullptr) {
     potential_end_ = at_end->potential;
     penalty_end = at_end->penalty;
-    row_ = at_end->gradient;
   } else {
     row_.setZero(3, x1.cols());
     potential_end_ = evaluate_potential(model, gravity, x1, &row_, nullptr, HessianStencils{}, false);
@@ -81,6 +80,7 @@ EnergyFlows SolveLedger::implicit_euler(const Cloth& cloth, const Vec3& gravity,
     row_ += dissipation_gradient_;
     for (Eigen::Index i = 0; i < row_.cols(); ++i) row_.col(i) += (model.mass[i] / h) * dv_.col(i);
   }
+  const Positions& row = at_end != nullptr ? at_end->gradient : row_;
   const double penalty_start = penalized ? penalty->evaluate(x0_, nullptr, nullptr) : 0.0;
 
   EnergyFlows flows;
@@ -89,7 +89,7 @@ EnergyFlows SolveLedger::implicit_euler(const Cloth& cloth, const Vec3& gravity,
   // out). dx . grad U(x1), for the Bregman divergence, is dx . (r - M dv / h - grad D).
   double potential_work = 0.0;
   for (Eigen::Index i = 0; i < dx_.cols(); ++i) {
-    const double work = dx_.col(i).dot(row_.col(i));
+    const double work = dx_.col(i).dot(row.col(i));
     potential_work += work - dx_.col(i).dot((model.mass[i] / h) * dv_.col(i) + dissipation_gradient_.col(i));
     if (model.inverse_mass[i] == 0.0) {
       flows.external_work += work;

@@ -91,7 +91,8 @@ class SolveLedger {
   Positions x0_, v0_;
   Positions dx_, dv_;     // x1 - x0, v1 - v0
   Positions gradient_;    // grad U at the start (symplectic)
-  Positions row_;         // implicit: r = M dv / h + grad U(x1) + grad D(x1), penalty included
+  Positions row_;         // implicit: r = M dv / h + grad U(x1) + grad D(x1), penalty included,
+                          // when the solver's last evaluation was not at x1
   Positions dissipation_gradient_;
   double potential_start_ = 0.0;
   double potential_end_ = 0.0;
