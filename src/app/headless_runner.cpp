@@ -43,7 +43,8 @@ constexpr const char* stats_header =
     "vertex_face_candidates,edge_edge_candidates,proximity_contacts,ccd_impulses,impact_zone_vertices,"
     "collisions_clean,strain_limited_edges,newton_residual,unconverged_steps,external_work,dissipated_damping,"
     "dissipated_integrator,dissipated_contact,dissipated_plastic,budget_error,threads,held_pins,"
-    "edges_over_strain_limit,collision_correction_max,collision_corrected_vertices,dissipated_residual";
+    "edges_over_strain_limit,collision_correction_max,collision_corrected_vertices,dissipated_residual,"
+    "substeps";
 
 volatile std::sig_atomic_t stop_requested = 0;
 extern "C" void request_stop(int) { stop_requested = 1; }
@@ -83,7 +84,7 @@ std::string stats_line(int frame, double time, const Energies& e, double initial
       << flows.integrator << ',' << flows.contact << ',' << flows.plastic << ',' << budget_error << ','
       << (s.steps > 0 ? static_cast<double>(s.thread_steps) / s.steps : 0.0) << ',' << s.held_pins << ','
       << s.edges_over_strain_limit << ',' << s.largest_collision_correction << ','
-      << s.collision_corrected_vertices << ',' << flows.residual;
+      << s.collision_corrected_vertices << ',' << flows.residual << ',' << s.substeps;
   return out.str();
 }
 

@@ -299,6 +299,7 @@ World build_world(const SceneDesc& scene) {
   world.settings.integrator = scene.integrator;
   world.settings.time_step = frame_schedule(scene.fps, scene.time_step).time_step;
   world.settings.substeps = scene.substeps;
+  world.settings.max_travel_edges = scene.max_travel_edges;
   world.settings.gravity = scene.gravity;
   world.settings.implicit = scene.implicit;
   world.settings.xpbd = scene.xpbd;

@@ -515,6 +515,7 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
     solver.enumeration("integrator", scene.integrator, integrator_names);
     solver.number("time_step", scene.time_step, positive);
     solver.integer("substeps", scene.substeps, 1, 100000);
+    solver.number("max_travel_edges", scene.max_travel_edges, non_negative);
     if (const json* newton_value = solver.find("newton")) {
       ObjectReader newton(*newton_value, "/solver/newton", file);
       newton.number("tolerance", scene.implicit.newton_tolerance, positive);
@@ -690,6 +691,7 @@ json scene_to_json(const SceneDesc& scene) {
       {"integrator", name_of(scene.integrator, integrator_names)},
       {"time_step", scene.time_step},
       {"substeps", scene.substeps},
+      {"max_travel_edges", scene.max_travel_edges},
       {"newton",
        {{"tolerance", scene.implicit.newton_tolerance},
         {"max_iterations", scene.implicit.max_newton_iterations},

@@ -120,6 +120,7 @@ struct SceneDesc {
   IntegratorKind integrator = IntegratorKind::symplectic_euler;
   double time_step = 1.0 / 600.0; // s, the largest step; each frame is cut into equal steps <= this
   int substeps = 1;               // integration sub-steps per time step
+  double max_travel_edges = 0.0;  // "solver": {"max_travel_edges"}: SolverSettings::max_travel_edges
   ImplicitEulerSettings implicit; // "solver": {"newton": ...}
   XpbdSettings xpbd;              // "solver": {"xpbd": ...}
   AdaptiveSettings adaptive;      // "solver": {"adaptive": ...}

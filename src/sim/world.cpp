@@ -3,8 +3,10 @@
 #include <omp.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -64,7 +66,7 @@ void World::step() {
   const int threads = settings.adapt_threads ? thread_governor_.threads() : std::max(1, settings.threads);
   omp_set_num_threads(threads);
   Eigen::setNbThreads(threads);
-  const int substeps = std::max(1, settings.substeps);
+  const int substeps = substeps_for_step();
   const double h = settings.time_step / substeps;
   collisions_.reset_stats();
   for (int substep = 0; substep < substeps; ++substep) {
@@ -87,9 +89,46 @@ void World::step() {
   }
   stats.total_ms = milliseconds_since(step_start);
   stats.steps = 1;
+  stats.substeps = substeps;
   stats.thread_steps = threads;
   stats_ = stats;
   if (settings.adapt_threads) thread_governor_.record(1e-3 * stats.total_ms);
+}
+
+// With n sub-steps a vertex travels (h/n) |v| + (h/n)^2 |g| <= (h |v| + h^2 |g|) / n, so n = the
+// largest ratio of h |v| + h^2 |g| to max_travel_edges times the vertex's shortest rest edge,
+// rounded up, keeps every vertex within the bound (velocities at the step's start).
+int World::substeps_for_step() {
+  const int requested = std::max(1, settings.substeps);
+  if (!(settings.max_travel_edges > 0.0)) return requested;
+  const double h = settings.time_step;
+  const double fall = h * h * settings.gravity.norm();
+  double ratio = 0.0;
+  for (size_t c = 0; c < cloths_.size(); ++c) {
+    const Cloth& cloth = cloths_[c];
+    Eigen::VectorXd& shortest = solvers_[c]->shortest_rest_edge;
+    const Positions& rest = cloth.model.rest_positions;
+    if (shortest.size() != rest.cols()) {
+      shortest.setConstant(rest.cols(), std::numeric_limits<double>::infinity());
+      const Triangles& triangles = cloth.model.triangles;
+      for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+        for (int k = 0; k < 3; ++k) {
+          const int a = triangles(k, t), b = triangles((k + 1) % 3, t);
+          const double length = (rest.col(a) - rest.col(b)).norm();
+          shortest[a] = std::min(shortest[a], length);
+          shortest[b] = std::min(shortest[b], length);
+        }
+      }
+    }
+    for (Eigen::Index i = 0; i < rest.cols(); ++i) {
+      if (!(shortest[i] > 0.0) || !std::isfinite(shortest[i])) continue;  // on no triangle, or degenerate
+      const double travel = h * cloth.state.v.col(i).norm() + fall;
+      ratio = std::max(ratio, travel / (settings.max_travel_edges * shortest[i]));
+    }
+  }
+  // NaN velocities compare false: left to the stability checks at the requested count.
+  if (!(ratio > requested)) return requested;
+  return static_cast<int>(std::min<double>(max_travel_substeps, std::ceil(ratio)));
 }
 
 // Kinematic colliders follow their scripted motion: the collision phase poses them at both ends
@@ -326,6 +365,7 @@ StepStats& StepStats::operator+=(const StepStats& step) {
   narrow_phase_ms += step.narrow_phase_ms;
   response_ms += step.response_ms;
   steps += step.steps;
+  substeps += step.substeps;
   contacts += step.contacts;
   vertex_face_candidates += step.vertex_face_candidates;
   edge_edge_candidates += step.edge_edge_candidates;

@@ -24,6 +24,11 @@ struct SolverSettings {
   IntegratorKind integrator = IntegratorKind::symplectic_euler;
   double time_step = 1.0 / 600.0;  // s, h of one call to World::step()
   int substeps = 1;                // integration sub-steps of h / substeps inside one step
+  // > 0: a step whose start velocities would carry a cloth vertex farther than this many of its
+  // shortest rest edges (h |v| + h^2 |g|) is cut into as many more equal sub-steps as keep every
+  // vertex within it, up to max_travel_substeps (World::substeps_for_step); 0: off. A collision
+  // phase handed a motion of many edge lengths a step grows impact zones over whole regions.
+  double max_travel_edges = 0.0;
   Vec3 gravity{0.0, -9.81, 0.0};   // m/s^2
   ImplicitEulerSettings implicit;  // Newton and linear solver (implicit_euler)
   XpbdSettings xpbd;               // sub-steps and sweeps (xpbd)
@@ -57,6 +62,8 @@ struct StepStats {
   double rest_update_ms = 0.0;
   double total_ms = 0.0;
   int steps = 0;                   // World::step() calls summed here (1 for one step)
+  int substeps = 0;                // integration sub-steps taken (settings.substeps a step, or more
+                                   // where settings.max_travel_edges cut it finer)
   int contacts = 0;                // contacts acted on (proximity + CCD impulses), summed over sub-steps
   int vertex_face_candidates = 0;  // primitive pairs from the broad phase
   int edge_edge_candidates = 0;
@@ -157,8 +164,12 @@ class World {
     AdaptiveState adaptive;
     ClothState trial;
     SolveLedger ledger;      // settings.energy_budget: the solve phase's flows
+    Eigen::VectorXd shortest_rest_edge;  // per vertex (settings.max_travel_edges), sized on first use
   };
 
+  // settings.substeps, or the fewest sub-steps that keep every cloth vertex within
+  // settings.max_travel_edges of its shortest rest edges (see there).
+  int substeps_for_step();
   void move_colliders(double h);
   void integrate(double h, int substep, StepStats& stats);
   void resolve_collisions(double h, StepStats& stats);
@@ -186,6 +197,10 @@ class World {
 // about a microsecond per sub-step, so past this a frame takes seconds and a run hours; far past
 // it the step count no longer fits an int. Scenes asking for more are refused (docs/scenes.md).
 constexpr int max_steps_per_frame = 1'000'000;
+
+// Most sub-steps settings.max_travel_edges cuts one step into: a velocity that would need more is
+// a diverged cloth, which the stability checks report.
+constexpr int max_travel_substeps = 64;
 
 // Most solver threads: well above the cores of one node, and below the counts (thousands) at
 // which libgomp hangs or crashes creating them.

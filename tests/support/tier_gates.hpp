@@ -57,10 +57,13 @@ inline const std::vector<std::string> reference_tier = {"solver.time_step=0.0041
 // Weft's fast tier, as overrides of the drape scene (scenes/drape_sphere_fast.json is the drape
 // with these; docs/performance.md, "The fast tier"): h = 1/90 s (three steps a frame), two Newton
 // iterations a step (each step's residual still reported, its work booked by the energy ledger as
-// the residual flow) and a 5% strain limit (at 2% the capped solves' stretched impact steps set
-// off impact zones of ~1,700 vertices that stop the skirt's swing two frames early).
-inline const std::vector<std::string> fast_tier = {"solver.time_step=0.011111111111111112",
-                                                   "solver.newton.max_iterations=2", "collision.strain_limit=0.05"};
+// the residual flow), a 5% strain limit (at 2% the capped solves' stretched impact steps set
+// off impact zones of ~1,700 vertices that stop the skirt's swing two frames early), and steps cut
+// into sub-steps where a vertex would travel more than 4 edge lengths (at 256x256 the skirt's
+// 9 edges a step grew impact zones that tore the cloth).
+inline const std::vector<std::string> fast_tier = {
+    "solver.time_step=0.011111111111111112", "solver.newton.max_iterations=2", "collision.strain_limit=0.05",
+    "solver.max_travel_edges=4"};
 
 // The shape gate's bound on the difference of the drapes' final mean heights (m).
 constexpr double shape_tolerance = 0.05;
