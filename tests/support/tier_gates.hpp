@@ -60,7 +60,7 @@ inline const std::vector<std::string> reference_tier = {"solver.time_step=0.0041
 // the residual flow), a 5% strain limit (at 2% the capped solves' stretched impact steps set
 // off impact zones of ~1,700 vertices that stop the skirt's swing two frames early), and steps cut
 // into sub-steps where a vertex would travel more than 4 edge lengths (at 256x256 the skirt's
-// 9 edges a step grew impact zones that tore the cloth).
+// 9-12 edges a step grew impact zones that tore the cloth).
 inline const std::vector<std::string> fast_tier = {
     "solver.time_step=0.011111111111111112", "solver.newton.max_iterations=2", "collision.strain_limit=0.05",
     "solver.max_travel_edges=4"};
