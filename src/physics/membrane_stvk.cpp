@@ -78,6 +78,10 @@ Eigen::Matrix2d green_strain(const Vec3& x0, const Vec3& x1, const Vec3& x2, con
   return green_strain_of(deformation_gradient(x0, x1, x2, rest));
 }
 
+double largest_principal_strain(const Eigen::Matrix2d& strain) {
+  return principal(strain(0, 0), strain(0, 1), strain(1, 1)).e_max;
+}
+
 double membrane_energy(const Vec3& x0, const Vec3& x1, const Vec3& x2, const MembraneRest& rest,
                        const MembraneMaterial& material, Vector9d* gradient, Matrix9d* hessian, bool psd) {
   const Matrix32d f = deformation_gradient(x0, x1, x2, rest);

@@ -33,6 +33,9 @@ MembraneRest membrane_rest(const Vec3& x0, const Vec3& x1, const Vec3& x2);
 // Green strain E = (F^T F - I)/2 in the rest frame.
 Eigen::Matrix2d green_strain(const Vec3& x0, const Vec3& x1, const Vec3& x2, const MembraneRest& rest);
 
+// The larger principal value of a Green strain (symmetric), in closed form.
+double largest_principal_strain(const Eigen::Matrix2d& strain);
+
 // Elastic energy rest.area * thickness * psi(E) with, for compression factor c,
 //   psi = mu (tr(E+^2) + c tr(E-^2)) + lambda/2 (tr(E)+^2 + c tr(E)-^2),
 // E+ / E- the positive / negative parts of E (principal strains split at zero), t+ = max(t, 0),

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/Eigenvalues>
 #include <cstdio>
 #include <vector>
 
@@ -168,10 +167,7 @@ bool visit_strains(const World& world, const Visit& visit) {
     for (int t = 0; t < static_cast<int>(membrane.rest.size()); ++t) {
       const Eigen::Matrix2d strain_tensor = green_strain(x.col(triangles(0, t)), x.col(triangles(1, t)),
                                                          x.col(triangles(2, t)), membrane.rest[t]);
-      const double largest =
-          Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(strain_tensor, Eigen::EigenvaluesOnly)
-              .eigenvalues()
-              .maxCoeff();
+      const double largest = largest_principal_strain(strain_tensor);
       const double strain = std::sqrt(std::max(0.0, 1.0 + 2.0 * largest)) - 1.0;
       if (visit(static_cast<int>(c), triangles(0, t), "membrane_strain", t, strain)) return true;
     }

@@ -334,6 +334,22 @@ TEST(MembraneStvk, StressIsContinuousWhereAPrincipalStrainCrossesZero) {
   EXPECT_LE((above - below).norm(), 1e-5 * above.norm());
 }
 
+// The closed form against an eigensolver, on strains of every sign and anisotropy.
+TEST(MembraneStvk, LargestPrincipalStrainIsTheLargerEigenvalue) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> entry(-2.0, 2.0);
+  for (int k = 0; k < 200; ++k) {
+    Eigen::Matrix2d strain;
+    strain(0, 0) = entry(rng);
+    strain(1, 1) = k % 10 == 0 ? strain(0, 0) : entry(rng);  // some with equal diagonals
+    strain(0, 1) = strain(1, 0) = k % 7 == 0 ? 0.0 : entry(rng);
+    const double expected = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(strain, Eigen::EigenvaluesOnly)
+                                .eigenvalues()
+                                .maxCoeff();
+    EXPECT_NEAR(largest_principal_strain(strain), expected, 1e-14 * (1.0 + strain.norm())) << strain;
+  }
+}
+
 TEST(MembraneStvk, ZeroAreaRestThrows) {
   EXPECT_THROW(membrane_rest(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)), std::invalid_argument);
   EXPECT_THROW(membrane_rest(Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(0, 1, 0)), std::invalid_argument);
