@@ -46,8 +46,8 @@ struct Run {
 Run run(const weft::SceneDesc& scene, int threads, const Drag* drag) {
   weft::World world = weft::build_world(scene);
   world.settings.threads = threads;
-  const weft::FrameSchedule schedule = weft::frame_schedule(scene.fps, world.settings.time_step);
-  world.settings.time_step = schedule.time_step;
+  // The frame cut as build_world cut it into world.settings.time_step.
+  const weft::FrameSchedule schedule = weft::frame_schedule(scene.fps, scene.time_step);
   const ClothMaterial shipped = weft::read_material(world.cloths()[0].model);
   Run result;
   double seconds = 0.0;
