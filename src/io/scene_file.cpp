@@ -15,9 +15,9 @@ namespace weft {
 using nlohmann::json;
 
 const std::vector<std::string> display_switch_names = {
-    "boxes",     "no-boxes",  "contacts",  "no-contacts", "wireframe",    "no-wireframe", "strain",
-    "no-strain", "pins",      "no-pins",   "grid",        "no-grid",      "colliders",    "no-colliders",
-    "cutaway",   "no-cutaway", "panels",   "no-panels"};
+    "boxes",     "no-boxes",     "contacts", "no-contacts", "wireframe", "no-wireframe",
+    "strain",    "no-strain",    "pins",     "no-pins",     "grid",      "no-grid",
+    "colliders", "no-colliders", "cutaway",  "no-cutaway",  "panels",    "no-panels"};
 
 namespace {
 
@@ -120,7 +120,8 @@ class ObjectReader {
   }
 
   template <typename Enum>
-  void enumeration(const std::string& key, Enum& out, const std::vector<std::pair<std::string, Enum>>& names) {
+  void enumeration(const std::string& key, Enum& out,
+                   const std::vector<std::pair<std::string, Enum>>& names) {
     if (const json* value = find(key)) {
       std::string expected;
       for (const auto& [name, item] : names) expected += (expected.empty() ? "\"" : ", \"") + name + "\"";
@@ -157,8 +158,10 @@ class ObjectReader {
   }
 
   int to_integer(const json& value, const std::string& path, int min, int max) const {
-    const std::string expected = "expected an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
-    if (!value.is_number_integer() && !value.is_number_unsigned()) fail(path, expected + ", got " + type_name(value));
+    const std::string expected =
+        "expected an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
+    if (!value.is_number_integer() && !value.is_number_unsigned())
+      fail(path, expected + ", got " + type_name(value));
     const long long number = value.get<long long>();
     if (number < min || number > max) fail(path, expected + ", got " + value.dump());
     return static_cast<int>(number);
@@ -176,8 +179,12 @@ const std::vector<std::pair<std::string, GridTriangulation>> triangulation_names
     {"alternating", GridTriangulation::alternating},
     {"cross", GridTriangulation::cross}};
 const std::vector<std::pair<std::string, ColliderShape>> collider_shape_names = {
-    {"plane", ColliderShape::plane},     {"sphere", ColliderShape::sphere},     {"box", ColliderShape::box},
-    {"capsule", ColliderShape::capsule}, {"cylinder", ColliderShape::cylinder}, {"mesh", ColliderShape::mesh}};
+    {"plane", ColliderShape::plane},       {"sphere", ColliderShape::sphere},
+    {"box", ColliderShape::box},           {"capsule", ColliderShape::capsule},
+    {"cylinder", ColliderShape::cylinder}, {"mesh", ColliderShape::mesh}};
+const std::vector<std::pair<std::string, CollisionResponse>> response_names = {
+    {"impulse", CollisionResponse::impulse}, {"barrier", CollisionResponse::barrier}};
+
 const std::vector<std::pair<std::string, IntegratorKind>> integrator_names = {
     {"symplectic_euler", IntegratorKind::symplectic_euler},
     {"midpoint_euler_cromer", IntegratorKind::midpoint_euler_cromer},
@@ -204,7 +211,8 @@ std::string name_of(Enum item, const std::vector<std::pair<std::string, Enum>>& 
 
 constexpr int max_grid_resolution = 4096;
 
-void read_spring(ObjectReader& springs, const std::string& kind, SpringParams& params, const std::string& file) {
+void read_spring(ObjectReader& springs, const std::string& kind, SpringParams& params,
+                 const std::string& file) {
   if (const json* value = springs.find(kind)) {
     ObjectReader spring(*value, springs.path_of(kind), file);
     spring.number("stiffness", params.stiffness, non_negative);
@@ -224,8 +232,10 @@ void read_names(ObjectReader& reader, const std::string& key, std::vector<std::s
     out.clear();
     for (size_t k = 0; k < value->size(); ++k) {
       const json& item = (*value)[k];
-      if (!item.is_string() || std::find(allowed.begin(), allowed.end(), item.get<std::string>()) == allowed.end()) {
-        reader.fail(path + "/" + std::to_string(k), "expected one of " + expected + ", got " + type_name(item));
+      if (!item.is_string() ||
+          std::find(allowed.begin(), allowed.end(), item.get<std::string>()) == allowed.end()) {
+        reader.fail(path + "/" + std::to_string(k),
+                    "expected one of " + expected + ", got " + type_name(item));
       }
       out.push_back(item.get<std::string>());
     }
@@ -249,7 +259,8 @@ PinSelection read_pin_selection(ObjectReader& reader) {
 }
 
 // Named corners and edges need a grid.
-void require_grid_for_names(const ObjectReader& reader, const ClothDesc& cloth, const PinSelection& selection) {
+void require_grid_for_names(const ObjectReader& reader, const ClothDesc& cloth,
+                            const PinSelection& selection) {
   const bool grid = cloth.obj_file.empty() && !cloth.sphere;
   if (!grid && (!selection.corners.empty() || !selection.edges.empty())) {
     reader.fail(reader.path_of(selection.corners.empty() ? "edges" : "corners"),
@@ -353,7 +364,8 @@ ClothDesc read_cloth(const json& value, const std::string& path, const std::stri
   }
   if (const json* moving = reader.find("moving_pins")) {
     const std::string moving_path = reader.path_of("moving_pins");
-    if (!moving->is_array()) reader.fail(moving_path, "expected an array of moving pin groups, got " + type_name(*moving));
+    if (!moving->is_array())
+      reader.fail(moving_path, "expected an array of moving pin groups, got " + type_name(*moving));
     for (size_t k = 0; k < moving->size(); ++k) {
       ObjectReader group((*moving)[k], moving_path + "/" + std::to_string(k), file);
       MovingPinDesc desc;
@@ -365,7 +377,8 @@ ClothDesc read_cloth(const json& value, const std::string& path, const std::stri
       group.finish();
       if (!(desc.axis.norm() > 1e-12)) group.fail(group.path_of("axis"), "expected a non-zero vector");
       desc.axis.normalize();
-      if (desc.selection.empty()) group.fail(group.path_of("vertices"), "expected at least one vertex, corner or edge");
+      if (desc.selection.empty())
+        group.fail(group.path_of("vertices"), "expected at least one vertex, corner or edge");
       require_grid_for_names(group, cloth, desc.selection);
       cloth.moving_pins.push_back(std::move(desc));
     }
@@ -386,8 +399,9 @@ Collider read_collider(const json& value, const std::string& path, const std::st
   Collider collider;
   ObjectReader reader(value, path, file);
   if (!reader.has("type")) {
-    reader.fail(path, "missing \"type\": expected one of \"plane\", \"sphere\", \"box\", \"capsule\", "
-                      "\"cylinder\", \"mesh\"");
+    reader.fail(path,
+                "missing \"type\": expected one of \"plane\", \"sphere\", \"box\", \"capsule\", "
+                "\"cylinder\", \"mesh\"");
   }
   reader.enumeration("type", collider.shape, collider_shape_names);
   reader.string("name", collider.name);
@@ -453,7 +467,8 @@ void check_newton_tolerance(const ObjectReader& reader, const SceneDesc& scene) 
   if (!(scene.implicit.newton_tolerance >= gravity_velocity) || gravity_velocity == 0.0) return;
   std::ostringstream message;
   message << std::setprecision(4) << "expected a tolerance below " << gravity_velocity
-          << " m/s, the velocity gravity adds in one step of " << h << " s (at or above it a step may end off "
+          << " m/s, the velocity gravity adds in one step of " << h
+          << " s (at or above it a step may end off "
           << "by gravity's whole pull and report convergence), got " << scene.implicit.newton_tolerance;
   reader.fail("/solver/newton/tolerance", message.str());
 }
@@ -560,6 +575,10 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
     ObjectReader collision(*collision_value, "/collision", file);
     CollisionSettings& settings = scene.collision;
     collision.boolean("enabled", settings.enabled);
+    collision.enumeration("response", settings.response, response_names);
+    collision.number("contact_radius", settings.barrier.contact_radius, non_negative);
+    collision.number("contact_stiffness_ratio", settings.barrier.stiffness_ratio, positive);
+    collision.number("slip_speed", settings.barrier.slip_speed, positive);
     collision.number("repulsion_stiffness", settings.repulsion_stiffness, non_negative);
     collision.number("ccd_tolerance", settings.ccd_tolerance, positive);
     collision.number("ccd_separation", settings.ccd_separation, unit_closed);
@@ -601,7 +620,8 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
 void apply_override(json& document, const std::string& assignment, const std::string& file) {
   const size_t equals = assignment.find('=');
   if (equals == std::string::npos || equals == 0) {
-    throw SceneError(file, "", "--set \"" + assignment + "\": expected path=value, e.g. solver.time_step=0.001");
+    throw SceneError(file, "",
+                     "--set \"" + assignment + "\": expected path=value, e.g. solver.time_step=0.001");
   }
   const std::vector<std::string> tokens = split_path(assignment.substr(0, equals));
   const std::string text = assignment.substr(equals + 1);
@@ -628,14 +648,16 @@ void apply_override(json& document, const std::string& assignment, const std::st
       const bool numeric = token.find_first_not_of("0123456789") == std::string::npos && token.size() <= 9;
       const size_t index = numeric ? std::stoul(token) : 0;
       if (!numeric || index >= node->size()) {
-        throw SceneError(file, path + "/" + token,
-                         "--set: expected an index below " + std::to_string(node->size()) + " into this array");
+        throw SceneError(
+            file, path + "/" + token,
+            "--set: expected an index below " + std::to_string(node->size()) + " into this array");
       }
       node = &(*node)[index];
     } else {
       if (node->is_null()) *node = json::object();
       if (!node->is_object()) {
-        throw SceneError(file, path, "--set: cannot descend into " + type_name(*node) + " with \"" + token + "\"");
+        throw SceneError(file, path,
+                         "--set: cannot descend into " + type_name(*node) + " with \"" + token + "\"");
       }
       if (!last && !node->contains(token)) (*node)[token] = json::object();
       node = &(*node)[token];
@@ -713,7 +735,8 @@ json scene_to_json(const SceneDesc& scene) {
     json item;
     item["name"] = cloth.name;
     if (cloth.sphere) {
-      item["sphere"] = {{"radius", cloth.sphere_radius}, {"slices", cloth.sphere_slices}, {"stacks", cloth.sphere_stacks}};
+      item["sphere"] = {
+          {"radius", cloth.sphere_radius}, {"slices", cloth.sphere_slices}, {"stacks", cloth.sphere_stacks}};
     } else if (cloth.obj_file.empty()) {
       item["grid"] = {{"size", {cloth.grid_width, cloth.grid_height}},
                       {"resolution", {cloth.grid_nx, cloth.grid_ny}},
@@ -726,16 +749,19 @@ json scene_to_json(const SceneDesc& scene) {
                          {"scale", cloth.scale}};
     item["density"] = cloth.density;
     item["mass"] = cloth.mass;
-    const auto spring = [](const SpringParams& p) { return json{{"stiffness", p.stiffness}, {"damping", p.damping}}; };
+    const auto spring = [](const SpringParams& p) {
+      return json{{"stiffness", p.stiffness}, {"damping", p.damping}};
+    };
     item["springs"] = {{"structural", spring(cloth.structural)},
                        {"shear", spring(cloth.shear)},
                        {"bend", spring(cloth.bend)}};
     if (cloth.membrane) {
       const MembraneMaterial& material = cloth.membrane_material;
-      item["membrane"] = {{"young_modulus", material.young_modulus},   {"poisson_ratio", material.poisson_ratio},
-                          {"thickness", material.thickness},           {"compression_factor", material.compression_factor},
-                          {"min_stretch", material.min_stretch},
-                          {"yield_strain", cloth.yield_strain},        {"plastic_flow", cloth.plastic_flow}};
+      item["membrane"] = {
+          {"young_modulus", material.young_modulus}, {"poisson_ratio", material.poisson_ratio},
+          {"thickness", material.thickness},         {"compression_factor", material.compression_factor},
+          {"min_stretch", material.min_stretch},     {"yield_strain", cloth.yield_strain},
+          {"plastic_flow", cloth.plastic_flow}};
     }
     if (cloth.bending) {
       item["bending"] = {{"stiffness", cloth.bending_stiffness},
@@ -747,7 +773,8 @@ json scene_to_json(const SceneDesc& scene) {
     }
     item["thickness"] = cloth.thickness;
     item["mass_damping"] = cloth.mass_damping;
-    item["friction"] = {{"static", cloth.contact.static_friction}, {"kinetic", cloth.contact.kinetic_friction}};
+    item["friction"] = {{"static", cloth.contact.static_friction},
+                        {"kinetic", cloth.contact.kinetic_friction}};
     item["self_collision"] = cloth.contact.self_collision;
     item["initial_velocity"] = to_json(cloth.initial_velocity);
     const auto selection = [](const PinSelection& s) {
@@ -772,6 +799,10 @@ json scene_to_json(const SceneDesc& scene) {
                            {"max_ccd_passes", scene.collision.max_ccd_passes},
                            {"max_impact_zone_passes", scene.collision.max_impact_zone_passes},
                            {"max_rounds", scene.collision.max_rounds},
+                           {"response", name_of(scene.collision.response, response_names)},
+                           {"contact_radius", scene.collision.barrier.contact_radius},
+                           {"contact_stiffness_ratio", scene.collision.barrier.stiffness_ratio},
+                           {"slip_speed", scene.collision.barrier.slip_speed},
                            {"penalty_stiffness", scene.collision.penalty_stiffness},
                            {"collider_contact_ratio", scene.collision.collider_contact_ratio},
                            {"strain_limit", scene.collision.strain_limit},

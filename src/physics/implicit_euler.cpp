@@ -63,8 +63,11 @@ void ImplicitEulerSolver::prepare(const ClothModel& model, bool hinges_in_matrix
   report_.gradient_norms.reserve(64);
   x_linearized_.resize(3, num_vertices_);
   coupling_ = [this](const Eigen::VectorXd& p, Eigen::VectorXd& y) {
-    penalty_->add_coupling_product(x_linearized_, free_mask_, p, y);
+    if (penalty_ != nullptr && penalty_->coupled())
+      penalty_->add_coupling_product(x_linearized_, free_mask_, p, y);
+    if (contact_coupled_) contact_blocks_.add_coupling_product(free_mask_, p, y);
   };
+  zero_motion_.setZero(3, num_vertices_);
   cholesky_ = SupernodalCholesky();
   tail_supported_ = NewtonTail::supports(model);
   if (tail_supported_) tail_.prepare(model);
@@ -90,10 +93,26 @@ double ImplicitEulerSolver::incremental_potential(const ClothModel& model, const
     value += penalty;
     if (hessian != nullptr) x_linearized_ = x;
   }
+  if (contact_ != nullptr) {
+    if (gradient != nullptr) contact_gradient_.setZero(3, x.cols());
+    value += contact_->evaluate(x, gradient != nullptr ? &contact_gradient_ : nullptr,
+                                hessian != nullptr ? &contact_blocks_ : nullptr);
+    if (gradient != nullptr) *gradient += contact_gradient_;
+    if (hessian != nullptr) {
+      contact_blocks_.add_diagonal(*hessian);
+      contact_coupled_ = contact_blocks_.index_coupled();
+    }
+  }
   if (gradient != nullptr) {
     last_evaluation_.point = x;
     last_evaluation_.potential = potential;
     last_evaluation_.penalty = penalty;
+    last_evaluation_.contact_potential = contact_ != nullptr ? contact_->last_potential() : 0.0;
+    if (contact_ != nullptr) {
+      last_evaluation_.contact_gradient = contact_gradient_;
+    } else {
+      last_evaluation_.contact_gradient.resize(3, 0);
+    }
     last_evaluation_.gradient = *gradient;
     last_evaluation_valid_ = true;
     Eigen::Map<Eigen::VectorXd>(gradient->data(), gradient->size()).array() *= free_mask_.array();
@@ -127,17 +146,21 @@ bool ImplicitEulerSolver::solve(const ImplicitEulerSettings& settings, double cg
     return dx_.allFinite();
   }
   cg_.set_preconditioner(settings.cg_preconditioner);
+  const bool coupled =
+      (penalty_ != nullptr && penalty_->coupled()) || (contact_ != nullptr && contact_coupled_);
   const ConjugateGradientReport cg = cg_.solve(hessian_, rhs_, dx_, cg_tolerance, settings.max_cg_iterations,
-                                               penalty_ && penalty_->coupled() ? &coupling_ : nullptr, cg_guess);
+                                               coupled ? &coupling_ : nullptr, cg_guess);
   report_.linear_iterations += cg.iterations;
   return dx_.allFinite() && (cg.iterations > 0 || cg.converged);
 }
 
 const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity, double h,
                                               const ImplicitEulerSettings& settings,
-                                              const ContactPenalty* penalty) {
+                                              const ContactPenalty* penalty, SolveContact* contact) {
   const ClothModel& model = cloth.model;
   penalty_ = penalty != nullptr && penalty->active() ? penalty : nullptr;
+  contact_ = contact;
+  contact_coupled_ = false;
   ClothState& state = cloth.state;
   // The hinges' Hessian stays out of CG's matrix while their share of M/h^2 is small (settings'
   // bending_hessian_share). The viewer's sliders change the bending stiffness and the density,
@@ -174,6 +197,23 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   gravity_drop_.array() *= free_mask_.array();
   Positions& x = state.x;
   x = x_hat_;
+  // With contact in the solve, the predictor goes only as far along x_hat - x_start as keeps
+  // every pair apart; the pins then reach x_hat through the Newton steps.
+  if (contact_ != nullptr) {
+    pin_targets_ = x_hat_;
+    contact_->begin_step(x_start_, h);
+    trial_ = x_hat_ - x_start_;
+    const double alpha = contact_->max_step(x_start_, trial_);
+    if (alpha < 1.0) x.noalias() = x_start_ + alpha * trial_;
+  }
+  // Every pin on its target (always, without contact in the solve).
+  const auto pins_on_target = [&] {
+    if (contact_ == nullptr) return true;
+    for (int i = 0; i < num_vertices_; ++i) {
+      if (model.inverse_mass[i] == 0.0 && !(x.col(i) - pin_targets_.col(i)).isZero(0.0)) return false;
+    }
+    return true;
+  };
 
   // With Cholesky the exact Hessian is tried first: where it is positive definite (near any stable
   // equilibrium) Newton converges quadratically, whereas the projected one, which drops the
@@ -191,12 +231,13 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     return Eigen::Map<const Eigen::VectorXd>(gradient_.data(), gradient_.size());
   };
   report_.residual = newton_residual(gradient_, model.inverse_mass, h);
-  report_.converged = report_.residual < settings.newton_tolerance;
+  report_.converged = report_.residual < settings.newton_tolerance && pins_on_target();
   const auto record_iteration = [&](double step_scale, int linear_iterations, int restricted) {
     if (!settings.record_iterations) return;
-    report_.iterations.push_back({report_.residual,
-                                  vertices_above_tolerance(gradient_, model.inverse_mass, h, settings.newton_tolerance),
-                                  step_scale, linear_iterations, restricted});
+    report_.iterations.push_back(
+        {report_.residual,
+         vertices_above_tolerance(gradient_, model.inverse_mass, h, settings.newton_tolerance), step_scale,
+         linear_iterations, restricted});
   };
   record_iteration(0.0, 0, 0);
   // The iterate with the smallest residual so far. Phi can keep falling by ever smaller amounts
@@ -217,9 +258,8 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   int diverging = 0;
   double best_value = value;
   double cg_tolerance = std::max(settings.cg_tolerance, settings.cg_initial_tolerance);
-  bool use_tail =
-      tail_supported_ && (penalty_ == nullptr || !penalty_->coupled()) && !exact_first &&
-      settings.restricted_tail_share > 0.0;
+  bool use_tail = tail_supported_ && (penalty_ == nullptr || !penalty_->coupled()) && contact_ == nullptr &&
+                  !exact_first && settings.restricted_tail_share > 0.0;
   NewtonTailSettings tail_settings;
   tail_settings.tolerance = settings.newton_tolerance;
   tail_settings.largest_share = settings.restricted_tail_share;
@@ -260,7 +300,14 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     if (!solved) break;
     ++report_.newton_iterations;
     dx_.array() *= free_mask_.array();
+    if (contact_ != nullptr) {
+      for (int i = 0; i < num_vertices_; ++i) {
+        if (model.inverse_mass[i] == 0.0) dx_.segment<3>(3 * i) = pin_targets_.col(i) - x.col(i);
+      }
+    }
     const Eigen::Map<const Positions> step(dx_.data(), 3, num_vertices_);
+    // With contact in the solve, no trial goes past the step that keeps every pair apart.
+    const double max_alpha = contact_ != nullptr ? contact_->max_step(x, step) : 1.0;
 
     // Backtracking line search on Phi with the Armijo condition. The full step is nearly always
     // taken, so its trial point is evaluated with the gradient and Hessian the next iteration
@@ -280,15 +327,16 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
                                                /*project=*/false);
     };
     const double value_before = value;
-    double alpha = 1.0;
-    trial_.noalias() = x + step;
+    double alpha = max_alpha;
+    trial_.noalias() = x + alpha * step;
     double trial_value = evaluate_accepted(trial_);
     bool evaluated_at_trial = true;
     // Near the solution the decrease of Phi falls below its round-off (a light vertex's share of
     // Phi is ~1e-20 of the total), and Armijo can no longer tell: the full step is then taken
     // when it lowers the gradient, the quantity convergence is judged by.
     const double round_off = 1e-13 * std::abs(value);
-    const bool decrease_unresolved = std::isfinite(trial_value) && std::abs(trial_value - value) <= round_off &&
+    const bool decrease_unresolved = std::isfinite(trial_value) &&
+                                     std::abs(trial_value - value) <= round_off &&
                                      gradient_vector().norm() < report_.gradient_norms.back();
     while (!decrease_unresolved && !(trial_value <= value + 1e-4 * alpha * slope)) {  // also from NaN
       alpha *= 0.5;
@@ -303,7 +351,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     // (none when c <= 0). In the tail of a step where the cloth buckles, Newton otherwise creeps
     // along the buckling mode by the same small full step iteration after iteration.
     bool stretched = false;
-    if (alpha == 1.0 && !last_step && settings.max_step_expansion > 1.0) {
+    if (alpha == 1.0 && !last_step && settings.max_step_expansion > 1.0 && contact_ == nullptr) {
       const double c = trial_value - value - slope;
       const double minimum = c > 0.0 ? -slope / (2.0 * c) : settings.max_step_expansion;
       if (minimum > 1.5) {
@@ -326,13 +374,13 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
       if (!evaluated_at_trial) evaluate_accepted(x);
     }
     report_.residual = newton_residual(gradient_, model.inverse_mass, h);
-    report_.converged = report_.residual < settings.newton_tolerance;
+    report_.converged = report_.residual < settings.newton_tolerance && pins_on_target();
     int restricted = 0;
     if (use_tail && !report_.converged) {
       // The residual left on a few vertices: iterations on their region, then the whole cloth's
       // gradient again, so that the residual judged is the cloth's.
-      restricted = tail_.iterate(model, gravity, h, x_start_, x_hat_, penalty_, tail_settings, hessian_, stencils_,
-                                 x, gradient_);
+      restricted = tail_.iterate(model, gravity, h, x_start_, x_hat_, penalty_, tail_settings, hessian_,
+                                 stencils_, x, gradient_);
       use_tail = use_tail && !tail_.collapsed();  // the rest of the step iterates on the whole cloth
       if (restricted > 0) {
         report_.newton_iterations += restricted;
@@ -363,11 +411,13 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     report_.diverged_stops = 1;
     x = best_x_;
     report_.residual = best_residual;
+    if (contact_ != nullptr) contact_->max_step(x, zero_motion_);  // the pairs near the best iterate
     incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/false, /*project=*/false);
   }
   report_.gradient_norms.push_back(gradient_vector().norm());
   state.v = (x - x_start_) / h;
   penalty_ = nullptr;
+  contact_ = nullptr;
   return report_;
 }
 

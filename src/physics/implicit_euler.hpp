@@ -14,6 +14,7 @@
 #include "physics/conjugate_gradient.hpp"
 #include "physics/contact_penalty.hpp"
 #include "physics/newton_tail.hpp"
+#include "physics/solve_contact.hpp"
 #include "physics/sparse_hessian.hpp"
 #include "physics/supernodal_cholesky.hpp"
 
@@ -70,27 +71,27 @@ struct ImplicitEulerSettings {
 // One Newton iteration of a step, as --newton-log writes it (docs/recording.md). Record 0 is the
 // step's start (the inertial predictor): its step_scale and linear_iterations are 0.
 struct NewtonIterationRecord {
-  double residual = 0.0;       // m/s, newton_residual() after the iteration
-  int above_tolerance = 0;     // free vertices whose h |g_i| / m_i is above the tolerance after it
-  double step_scale = 0.0;     // the multiple of the Newton step taken (line search; > 1 stretched)
-  int linear_iterations = 0;   // CG iterations of this iteration's solve (0 for Cholesky)
+  double residual = 0.0;          // m/s, newton_residual() after the iteration
+  int above_tolerance = 0;        // free vertices whose h |g_i| / m_i is above the tolerance after it
+  double step_scale = 0.0;        // the multiple of the Newton step taken (line search; > 1 stretched)
+  int linear_iterations = 0;      // CG iterations of this iteration's solve (0 for Cholesky)
   int restricted_iterations = 0;  // Newton tail iterations that followed it (its residual is after them)
 };
 
 // What the last step did. The step ends at the iterate with the smallest residual it reached.
 struct NewtonReport {
   int newton_iterations = 0;
-  int linear_iterations = 0;  // CG iterations summed over Newton iterations (0 for Cholesky)
-  bool converged = false;     // the residual fell below newton_tolerance
-  double residual = 0.0;      // m/s, newton_residual() at the step's end
+  int linear_iterations = 0;           // CG iterations summed over Newton iterations (0 for Cholesky)
+  bool converged = false;              // the residual fell below newton_tolerance
+  double residual = 0.0;               // m/s, newton_residual() at the step's end
   int projected_hessians = 0;          // Cholesky only: iterations whose exact Hessian was not positive
                                        // definite, so the element-wise projected one was solved instead
-  int stretched_steps = 0;              // Newton steps the line search stretched past dx (max_step_expansion)
-  int restricted_iterations = 0;        // of newton_iterations, those restricted to the tail's region
-  int diverged_stops = 0;               // 1 when the step stopped with the residual far above its best
-                                        // for several iterations (the best iterate is returned)
-  int full_matrix_steps = 0;            // 1 when the step began without the hinges' Hessian in the
-                                        // matrix and went on with it (light_matrix_iterations)
+  int stretched_steps = 0;             // Newton steps the line search stretched past dx (max_step_expansion)
+  int restricted_iterations = 0;       // of newton_iterations, those restricted to the tail's region
+  int diverged_stops = 0;              // 1 when the step stopped with the residual far above its best
+                                       // for several iterations (the best iterate is returned)
+  int full_matrix_steps = 0;           // 1 when the step began without the hinges' Hessian in the
+                                       // matrix and went on with it (light_matrix_iterations)
   std::vector<double> gradient_norms;  // |grad of incremental potential| over free vertices, per iteration
   // With ImplicitEulerSettings::record_iterations: the start, then one record per global
   // iteration; empty otherwise.
@@ -121,6 +122,10 @@ struct IncrementalPotentialParts {
   Positions point;         // where it was evaluated
   double potential = 0.0;  // U: the elastic terms and gravity
   double penalty = 0.0;    // the contact penalty's energy (0 without one)
+  // With a SolveContact: its energy's gradient (barrier and friction), and its potential part
+  // (the barrier); zero and empty without one.
+  double contact_potential = 0.0;
+  Positions contact_gradient;
   Positions gradient;  // grad Phi = M (x - x_hat) / h^2 + grad U + grad D + grad penalty, pinned rows kept
 };
 
@@ -130,8 +135,12 @@ class ImplicitEulerSolver {
   // Advances the cloth by h. Returns the report (also kept in last_report()). `penalty`, when
   // given and active, adds its contact energy to the incremental potential; with the Cholesky
   // solver only its diagonal blocks enter the matrix (its coupling blocks are not in the pattern).
+  // `contact`, when given, adds contact inside the solve (physics/solve_contact.hpp): its energy
+  // joins the incremental potential, the predictor and every Newton step stop where it bounds
+  // them, and pinned vertices reach their targets through the Newton steps (so that a bounded
+  // predictor leaves none behind); the step converges only with every pin on its target.
   const NewtonReport& step(Cloth& cloth, const Vec3& gravity, double h, const ImplicitEulerSettings& settings,
-                           const ContactPenalty* penalty = nullptr);
+                           const ContactPenalty* penalty = nullptr, SolveContact* contact = nullptr);
   const NewtonReport& last_report() const { return report_; }
   // The last step's last evaluation with a gradient when it was taken at exactly `x` (the
   // cloth's positions as the step left them, unless something moved them since); else null.
@@ -145,6 +154,12 @@ class ImplicitEulerSolver {
   void swap_patterns();  // hessian_ / stencils_ with full_hessian_ / full_stencils_
 
   const ContactPenalty* penalty_ = nullptr;     // during step()
+  SolveContact* contact_ = nullptr;             // during step()
+  ContactBlocks contact_blocks_;                // its Hessian at x_linearized_
+  bool contact_coupled_ = false;                // contact_blocks_ joins cloth vertices
+  Positions contact_gradient_;                  // its gradient at the last evaluation
+  Positions pin_targets_;                       // with contact_: x_hat (where every pin ends)
+  Positions zero_motion_;                       // zeros (3 x n)
   ConjugateGradientSolver::Coupling coupling_;  // penalty coupling blocks at x_linearized_
   Positions x_linearized_;                      // where the Hessian was last assembled
   bool prepared_ = false;
@@ -159,7 +174,7 @@ class ImplicitEulerSolver {
   HessianStencils full_stencils_;
   bool light_active_ = false;  // hessian_ is the one without the hinges
   Positions x_start_, x_hat_, gradient_, trial_;
-  Positions best_x_;  // the iterate with the smallest residual so far
+  Positions best_x_;           // the iterate with the smallest residual so far
   Eigen::VectorXd free_mask_;  // 1 for free coordinates, 0 for pinned (3n)
   Eigen::VectorXd rhs_, dx_;
   Eigen::VectorXd gravity_drop_;  // h^2 g on free coordinates: CG's guess on a step's first solve

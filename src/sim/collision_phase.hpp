@@ -39,6 +39,7 @@
 #include "core/topology.hpp"
 #include "physics/cloth.hpp"
 #include "physics/contact_penalty.hpp"
+#include "sim/barrier_contact.hpp"
 
 namespace weft {
 
@@ -50,15 +51,22 @@ struct ContactMaterial {
   bool self_collision = true;
 };
 
+// How contact is handled: "impulse", the collision phase after the solve (this file), or
+// "barrier", contact inside implicit Euler's solve (sim/barrier_contact.hpp), where that phase
+// does not run.
+enum class CollisionResponse { impulse, barrier };
+
 struct CollisionSettings {
   bool enabled = true;
-  double repulsion_stiffness = 1000.0;  // N/m, spring of the proximity repulsion
-  double ccd_tolerance = 1e-6;          // m, eta of the continuous tests
-  double ccd_separation = 0.1;          // fraction of the thickness a CCD impulse restores
-  int max_ccd_passes = 8;               // CCD impulse passes before impact zones
-  int max_impact_zone_passes = 64;      // zone passes before the involved vertices stop
-  int max_rounds = 16;                  // CCD + zones rounds while verify_motion finds collisions
-  double max_step_displacement = 100.0; // m; a vertex moving farther in one step means divergence
+  CollisionResponse response = CollisionResponse::impulse;
+  BarrierSettings barrier;               // the barrier response's settings
+  double repulsion_stiffness = 1000.0;   // N/m, spring of the proximity repulsion
+  double ccd_tolerance = 1e-6;           // m, eta of the continuous tests
+  double ccd_separation = 0.1;           // fraction of the thickness a CCD impulse restores
+  int max_ccd_passes = 8;                // CCD impulse passes before impact zones
+  int max_impact_zone_passes = 64;       // zone passes before the involved vertices stop
+  int max_rounds = 16;                   // CCD + zones rounds while verify_motion finds collisions
+  double max_step_displacement = 100.0;  // m; a vertex moving farther in one step means divergence
   // N/m; > 0 adds the last step's proximity contacts to implicit Euler's incremental potential
   // as a one-sided quadratic penalty (physics/contact_penalty.hpp); 0: off
   double penalty_stiffness = 0.0;
@@ -86,17 +94,17 @@ struct CollisionPhaseStats {
   int proximity_contacts = 0;
   int ccd_impulses = 0;
   int impact_zone_vertices = 0;
-  int held_pins = 0;             // cloth pins the zones' last resort held at their start
-  int immovable_collisions = 0;  // collisions between infinite-mass vertices only (check_immovable_pairs)
+  int held_pins = 0;                // cloth pins the zones' last resort held at their start
+  int immovable_collisions = 0;     // collisions between infinite-mass vertices only (check_immovable_pairs)
   int edges_over_strain_limit = 0;  // cloth edges left over the limit (count_edges_over_limit)
-  int strain_limited_edges = 0;  // edge corrections by strain limiting, summed over its sweeps
+  int strain_limited_edges = 0;     // edge corrections by strain limiting, summed over its sweeps
   double largest_correction = 0.0;  // m: farthest a cloth vertex ended from the integrator's end
                                     // position, over the steps (measure_corrections)
   int corrected_vertices = 0;       // cloth vertices moved by more than 1% of their thickness, summed
   int bvh_rebuilds = 0;
-  int rounds = 0;            // CCD + zone rounds run
-  bool clean = true;         // the final motion had no collision among the last candidates (and no pin
-                             // was held); edges over the strain limit are counted apart
+  int rounds = 0;     // CCD + zone rounds run
+  bool clean = true;  // the final motion had no collision among the last candidates (and no pin
+                      // was held); edges over the strain limit are counted apart
 };
 
 // One collider as the phase sees it: its surface at time 0 and its motion.
@@ -179,7 +187,10 @@ class CollisionPhase {
   void set_near_pairs(const std::vector<std::array<int, 3>>& pairs);
 
   const CollisionPhaseStats& stats() const { return stats_; }
-  void reset_stats() { stats_ = {}; records_.clear(); }
+  void reset_stats() {
+    stats_ = {};
+    records_.clear();
+  }
   // Contacts acted on in the current step (positions at the start of the step).
   const std::vector<ContactRecord>& records() const { return records_; }
 
@@ -194,15 +205,15 @@ class CollisionPhase {
     Triangles vertex_entries;    // point_entries of the vertices (what vertex_bvh reads)
     Triangles edge_entries;      // segment_entries of the edges (what edge_bvh reads)
     MeshTopology topology;
-    Bvh bvh;              // over the triangles
-    Bvh vertex_bvh;       // over the vertices
-    Bvh edge_bvh;         // over the edges
-    SelfCulling culling;  // cloths with self-collision: regions that cannot touch themselves
+    Bvh bvh;                          // over the triangles
+    Bvh vertex_bvh;                   // over the vertices
+    Bvh edge_bvh;                     // over the edges
+    SelfCulling culling;              // cloths with self-collision: regions that cannot touch themselves
     OwnedPrimitives owned;            // the culled self walk's owner of each vertex and edge
     std::vector<int> broken_regions;  // verify_motion: nodes culled before and not now
     bool built = false;
-    bool moves = true;           // cloths, kinematic colliders
-    double thickness = 0.0;      // cloths; 0 for colliders
+    bool moves = true;       // cloths, kinematic colliders
+    double thickness = 0.0;  // cloths; 0 for colliders
     bool soft_body = false;
   };
 
@@ -239,9 +250,9 @@ class CollisionPhase {
   bool motion_valid_ = true;
 
   // Combined state of the step.
-  Positions x_start_;               // (3 x n_vertices)
-  Positions x_end_;                 // (3 x n_vertices)
-  Positions velocity_;              // (3 x n_vertices)
+  Positions x_start_;   // (3 x n_vertices)
+  Positions x_end_;     // (3 x n_vertices)
+  Positions velocity_;  // (3 x n_vertices)
   // (3 x n_vertices) corners of each vertex's box swept over the step, which the candidates were
   // found for; verify_motion grows the boxes of vertices whose corrected motion left them
   Positions vertex_lower_;
@@ -266,16 +277,16 @@ class CollisionPhase {
   CollisionCandidates zone_first_pairs_;
   CollisionCandidates region_candidates_, region_immovable_;  // query_broken_regions' lists
   CollisionCandidates immovable_candidates_;  // the pairs drop_immovable_pairs took out of query_candidates's
-  std::vector<char> culled_before_;  // verify_motion: the culling the candidates were found with
-  std::vector<int> escaped_vertices_;   // verify_motion: vertices whose corrected motion left their box
-  std::vector<char> escaped_flags_;     // per vertex
-  MovedPrimitives escaped_primitives_;  // of one cloth, touching escaped vertices
+  std::vector<char> culled_before_;           // verify_motion: the culling the candidates were found with
+  std::vector<int> escaped_vertices_;         // verify_motion: vertices whose corrected motion left their box
+  std::vector<char> escaped_flags_;           // per vertex
+  MovedPrimitives escaped_primitives_;        // of one cloth, touching escaped vertices
   std::vector<std::vector<int>> box_triangles_;    // append_moved_primitive_candidates' scratch, one a thread
   std::vector<std::vector<int>> reach_triangles_;  // collider_contacts' scratch, one a thread
   std::vector<PenaltyContact> reach_slots_;        // collider_contacts: a vertex's contact with each collider
   std::vector<char> reach_found_;                  // ... and whether it has one
-  Positions reach_positions_;           // collider_contacts: the colliders' columns, at t + h
-  double step_start_time_ = 0.0;        // begin_step's t
+  Positions reach_positions_;                      // collider_contacts: the colliders' columns, at t + h
+  double step_start_time_ = 0.0;                   // begin_step's t
   GroupedPairs<VertexFacePair> near_vertex_faces_;  // the last proximity phase's pairs by material group
   GroupedPairs<EdgeEdgePair> near_edge_edges_;
   std::vector<char> near_vertex_face_;

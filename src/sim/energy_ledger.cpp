@@ -87,9 +87,18 @@ EnergyFlows SolveLedger::implicit_euler(const Cloth& cloth, const Vec3& gravity,
   // Vertex i's row r_i: for a pinned vertex minus the pin's reaction, whose work is external; for a
   // free one what the solve left unbalanced, whose work the step added (the residual flow takes it
   // out). dx . grad U(x1), for the Bregman divergence, is dx . (r - M dv / h - grad D).
+  // Contact inside the solve (at_end->contact_gradient, when not empty) is a force like the
+  // damping's: its work over the step, dx . grad C(x1), is the contact flow.
+  const bool solve_contact = at_end != nullptr && at_end->contact_gradient.cols() == dx_.cols();
+  double contact_work = 0.0;
   double potential_work = 0.0;
   for (Eigen::Index i = 0; i < dx_.cols(); ++i) {
     const double work = dx_.col(i).dot(row.col(i));
+    if (solve_contact) {
+      const double pushed = dx_.col(i).dot(at_end->contact_gradient.col(i));
+      contact_work += pushed;
+      potential_work -= pushed;
+    }
     potential_work += work - dx_.col(i).dot((model.mass[i] / h) * dv_.col(i) + dissipation_gradient_.col(i));
     if (model.inverse_mass[i] == 0.0) {
       flows.external_work += work;
@@ -101,7 +110,7 @@ EnergyFlows SolveLedger::implicit_euler(const Cloth& cloth, const Vec3& gravity,
   flows.integrator = 0.5 * mass_norm_squared(model.mass, dv_) + bregman;
   // grad D(x1) = -F_d(v1): the damping force's power over the step is -dx . grad D.
   flows.damping = (dissipation_gradient_.cwiseProduct(dx_)).sum();
-  flows.contact = penalty_end - penalty_start;
+  flows.contact = penalty_end - penalty_start + contact_work;
   return flows;
 }
 

@@ -33,14 +33,17 @@ void World::add_cloth(Cloth cloth, ContactMaterial material) {
   solvers_.push_back(std::make_unique<ClothSolvers>());
   materials_.push_back(material);
   collision_meshes_stale_ = true;
+  barrier_meshes_stale_ = true;
 }
 
 void World::add_collider(Collider collider) {
   TriangleMesh surface = weft::collider_surface(collider);
-  build_topology(surface.triangles, surface.num_vertices());  // throws on a broken mesh, here and not mid-step
+  build_topology(surface.triangles,
+                 surface.num_vertices());  // throws on a broken mesh, here and not mid-step
   collider_surfaces_.push_back(std::move(surface));
   colliders_.push_back(std::move(collider));
   collision_meshes_stale_ = true;
+  barrier_meshes_stale_ = true;
 }
 
 std::vector<Cloth>& World::cloths() {
@@ -69,9 +72,14 @@ void World::step() {
   const int substeps = substeps_for_step();
   const double h = settings.time_step / substeps;
   collisions_.reset_stats();
+  const bool barrier = barrier_response();
   for (int substep = 0; substep < substeps; ++substep) {
     auto phase_start = Clock::now();
-    move_colliders(h);
+    if (barrier) {
+      prepare_barrier();
+    } else {
+      move_colliders(h);
+    }
     stats.move_colliders_ms += milliseconds_since(phase_start);
 
     phase_start = Clock::now();
@@ -79,7 +87,7 @@ void World::step() {
     stats.integrate_ms += milliseconds_since(phase_start);
 
     phase_start = Clock::now();
-    resolve_collisions(h, stats);
+    if (!barrier) resolve_collisions(h, stats);
     stats.collisions_ms += milliseconds_since(phase_start);
 
     time_ += h;
@@ -131,6 +139,38 @@ int World::substeps_for_step() {
   return static_cast<int>(std::min<double>(max_travel_substeps, std::ceil(ratio)));
 }
 
+bool World::barrier_response() const {
+  return settings.collision.enabled && settings.collision.response == CollisionResponse::barrier &&
+         settings.integrator == IntegratorKind::implicit_euler && !cloths_.empty();
+}
+
+// The barrier response's meshes (registered once: its colliders are static) and each cloth's
+// positions at the sub-step's start (the others' friction displacement in a cloth's solve).
+void World::prepare_barrier() {
+  barrier_.settings = settings.collision.barrier;
+  if (barrier_meshes_stale_) {
+    std::vector<BarrierMesh> meshes;
+    for (size_t c = 0; c < cloths_.size(); ++c) {
+      const Cloth& cloth = cloths_[c];
+      meshes.push_back({cloth.model.triangles, cloth.state.x, cloth.model.thickness,
+                        materials_[c].kinetic_friction, materials_[c].self_collision, true});
+    }
+    std::vector<Collider> analytic;
+    for (size_t k = 0; k < colliders_.size(); ++k) {
+      if (colliders_[k].shape != ColliderShape::mesh) {
+        analytic.push_back(colliders_[k]);
+        continue;
+      }
+      meshes.push_back({collider_surfaces_[k].triangles, collider_positions(static_cast<int>(k)), 0.0,
+                        colliders_[k].friction, false, false});
+    }
+    barrier_.set_meshes(meshes, analytic);
+    barrier_meshes_stale_ = false;
+  }
+  step_start_.resize(cloths_.size());
+  for (size_t c = 0; c < cloths_.size(); ++c) step_start_[c] = cloths_[c].state.x;
+}
+
 // Kinematic colliders follow their scripted motion: the collision phase poses them at both ends
 // of the step (t and t + h), and the step starts from the cloths' current positions.
 void World::move_colliders(double /*h*/) {
@@ -175,9 +215,19 @@ void World::integrate(double h, int substep, StepStats& stats) {
       solvers.ledger.forget_carried_potential();  // the cloth moves on unmeasured
     }
     solvers.penalty.contacts.clear();
-    if (settings.collision.enabled && settings.integrator == IntegratorKind::implicit_euler) {
+    if (barrier_response()) {
+      barrier_current_.clear();
+      barrier_start_.clear();
+      for (size_t k = 0; k < cloths_.size(); ++k) {
+        barrier_current_.push_back(&cloths_[k].state.x);
+        barrier_start_.push_back(&step_start_[k]);
+      }
+      barrier_.prepare_cloth(static_cast<int>(c), barrier_current_, barrier_start_, cloth.model.inverse_mass,
+                             cloth.model.mass.sum() / std::max<Eigen::Index>(1, cloth.model.mass.size()));
+    } else if (settings.collision.enabled && settings.integrator == IntegratorKind::implicit_euler) {
       if (settings.collision.penalty_stiffness > 0.0) {
-        collisions_.penalty_contacts(static_cast<int>(c), settings.collision.penalty_stiffness, solvers.penalty);
+        collisions_.penalty_contacts(static_cast<int>(c), settings.collision.penalty_stiffness,
+                                     solvers.penalty);
       }
       if (settings.collision.collider_contact_ratio > 0.0) {
         collisions_.collider_contacts(static_cast<int>(c), cloth, h, settings.gravity,
@@ -242,7 +292,16 @@ void World::integrate_cloth(int index, double h, int substep, StepStats& stats) 
       explicit_midpoint_step(cloth, settings.gravity, h, solvers.explicit_workspace);
       break;
     case IntegratorKind::implicit_euler: {
-      const NewtonReport& report = solvers.implicit.step(cloth, settings.gravity, h, settings.implicit, &solvers.penalty);
+      SolveContact* contact = barrier_response() ? &barrier_ : nullptr;
+      const NewtonReport& report =
+          solvers.implicit.step(cloth, settings.gravity, h, settings.implicit, &solvers.penalty, contact);
+      if (contact != nullptr) {
+        const SolveContactReport& found = contact->report();
+        stats.contacts += found.pairs;
+        stats.proximity_contacts += found.pairs;
+        stats.vertex_face_candidates += found.vertex_face_candidates;
+        stats.edge_edge_candidates += found.edge_edge_candidates;
+      }
       stats.newton_iterations += report.newton_iterations;
       stats.linear_iterations += report.linear_iterations;
       stats.residual = std::max(stats.residual, report.residual);
@@ -347,7 +406,8 @@ Energies World::energies() const {
     const ClothState& state = cloth.state;
     energies.kinetic += kinetic_energy(cloth);
     TermEnergies terms;
-    evaluate_potential(cloth.model, settings.gravity, state.x, nullptr, nullptr, HessianStencils{}, false, &terms);
+    evaluate_potential(cloth.model, settings.gravity, state.x, nullptr, nullptr, HessianStencils{}, false,
+                       &terms);
     energies.gravitational += terms.gravity;
     energies.elastic += terms.elastic();
     energies.terms += terms;

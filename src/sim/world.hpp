@@ -9,9 +9,9 @@
 #include "collision/contact_record.hpp"
 #include "physics/adaptive_stepping.hpp"
 #include "physics/cloth.hpp"
+#include "physics/explicit_midpoint.hpp"
 #include "physics/implicit_euler.hpp"
 #include "physics/integrator.hpp"
-#include "physics/explicit_midpoint.hpp"
 #include "physics/midpoint_euler_cromer.hpp"
 #include "physics/xpbd.hpp"
 #include "sim/collision_phase.hpp"
@@ -37,7 +37,7 @@ struct SolverSettings {
   // Let the step run on one thread instead of `threads` while that measures faster (a node
   // shared with another process: sim/thread_governor.hpp). Results are the same either way.
   bool adapt_threads = true;
-  CollisionSettings collision;     // the collision phase (collision_phase.hpp)
+  CollisionSettings collision;  // the collision phase (collision_phase.hpp)
   // Measure the energy budget's flows each step (sim/energy_ledger.hpp; StepStats::energy_flows):
   // two or three potential-energy evaluations a step, one with its gradient.
   bool energy_budget = true;
@@ -46,8 +46,8 @@ struct SolverSettings {
 struct Energies {
   double kinetic = 0.0;
   double gravitational = 0.0;
-  double elastic = 0.0;            // all elastic terms
-  TermEnergies terms;              // potential energy per term
+  double elastic = 0.0;  // all elastic terms
+  TermEnergies terms;    // potential energy per term
   double total() const { return kinetic + gravitational + elastic; }
 };
 
@@ -56,9 +56,9 @@ struct StepStats {
   double move_colliders_ms = 0.0;
   double integrate_ms = 0.0;
   double collisions_ms = 0.0;
-  double broad_phase_ms = 0.0;     // collision: BVH refit/rebuild, pair queries, candidates
-  double narrow_phase_ms = 0.0;    // collision: proximity and continuous tests
-  double response_ms = 0.0;        // collision: impulses, friction, impact zones
+  double broad_phase_ms = 0.0;   // collision: BVH refit/rebuild, pair queries, candidates
+  double narrow_phase_ms = 0.0;  // collision: proximity and continuous tests
+  double response_ms = 0.0;      // collision: impulses, friction, impact zones
   double rest_update_ms = 0.0;
   double total_ms = 0.0;
   int steps = 0;                   // World::step() calls summed here (1 for one step)
@@ -67,32 +67,32 @@ struct StepStats {
   int contacts = 0;                // contacts acted on (proximity + CCD impulses), summed over sub-steps
   int vertex_face_candidates = 0;  // primitive pairs from the broad phase
   int edge_edge_candidates = 0;
-  int proximity_contacts = 0;    // pairs repelled within the thickness
-  int ccd_impulses = 0;          // continuous collisions acted on
-  int impact_zone_vertices = 0;  // vertices moved rigidly by impact zones
+  int proximity_contacts = 0;       // pairs repelled within the thickness
+  int ccd_impulses = 0;             // continuous collisions acted on
+  int impact_zone_vertices = 0;     // vertices moved rigidly by impact zones
   int edges_over_strain_limit = 0;  // cloth edges over collision.strain_limit at the end of the step (a
                                     // step can be clean, free of collisions, and leave some)
   int held_pins = 0;                // cloth pins held at their start, lagging their script, because
                                     // nothing else kept cloth from passing through cloth
                                     // (collision/impact_zones.hpp); such a step is not clean
-  int strain_limited_edges = 0;  // edge corrections by strain limiting (collision.strain_limit)
+  int strain_limited_edges = 0;     // edge corrections by strain limiting (collision.strain_limit)
   double largest_collision_correction = 0.0;  // m: farthest the collision phase moved a cloth vertex
                                               // from where the integrator put it (max over steps)
-  int collision_corrected_vertices = 0;  // cloth vertices it moved by over 1% of their thickness
-  bool collisions_clean = true;  // every sub-step ended without a detected collision (and no pin held)
-  int newton_iterations = 0;     // implicit Euler, summed over cloths and sub-steps
-  int linear_iterations = 0;     // conjugate-gradient iterations, summed likewise
-  int accepted_steps = 0;        // adaptive stepping: steps taken
-  int rejected_steps = 0;        // adaptive stepping: steps retried smaller
-  int unmet_tolerance_steps = 0; // adaptive stepping: steps taken at min_step above the tolerance
-  double residual = 0.0;         // implicit Euler: largest final residual over cloths and steps, m/s
-                                 // (physics/implicit_euler.hpp newton_residual)
-  int unconverged_steps = 0;     // implicit Euler: cloth steps that ended with the residual above
-                                 // the Newton tolerance (iteration cap, or no descent left)
-  int yielded_triangles = 0;     // plasticity: triangles whose rest shape flowed
-  int thread_steps = 0;          // the threads each step ran on, summed (sim/thread_governor.hpp
-                                 // may run fewer than settings.threads)
-  EnergyFlows energy_flows;      // the step's energy budget (settings.energy_budget), J
+  int collision_corrected_vertices = 0;       // cloth vertices it moved by over 1% of their thickness
+  bool collisions_clean = true;   // every sub-step ended without a detected collision (and no pin held)
+  int newton_iterations = 0;      // implicit Euler, summed over cloths and sub-steps
+  int linear_iterations = 0;      // conjugate-gradient iterations, summed likewise
+  int accepted_steps = 0;         // adaptive stepping: steps taken
+  int rejected_steps = 0;         // adaptive stepping: steps retried smaller
+  int unmet_tolerance_steps = 0;  // adaptive stepping: steps taken at min_step above the tolerance
+  double residual = 0.0;          // implicit Euler: largest final residual over cloths and steps, m/s
+                                  // (physics/implicit_euler.hpp newton_residual)
+  int unconverged_steps = 0;      // implicit Euler: cloth steps that ended with the residual above
+                                  // the Newton tolerance (iteration cap, or no descent left)
+  int yielded_triangles = 0;      // plasticity: triangles whose rest shape flowed
+  int thread_steps = 0;           // the threads each step ran on, summed (sim/thread_governor.hpp
+                                  // may run fewer than settings.threads)
+  EnergyFlows energy_flows;       // the step's energy budget (settings.energy_budget), J
 
   // Sums the counts and times of `step` into this (the residual keeps the largest).
   StepStats& operator+=(const StepStats& step);
@@ -119,7 +119,9 @@ class World {
   std::vector<Collider>& colliders() { return colliders_; }  // live edits (friction) between steps
   // Friction and self-collision of cloth `cloth`; editable between steps like its thickness.
   ContactMaterial& contact_material(int cloth) { return materials_.at(static_cast<size_t>(cloth)); }
-  const ContactMaterial& contact_material(int cloth) const { return materials_.at(static_cast<size_t>(cloth)); }
+  const ContactMaterial& contact_material(int cloth) const {
+    return materials_.at(static_cast<size_t>(cloth));
+  }
   // External force on each vertex of cloth `cloth` (N, 3 x n_vertices, zero unless set), e.g. the
   // viewer's mouse spring. Held constant over a step and applied by every integrator as the
   // velocity impulse h f / m before it runs (exact for symplectic and implicit Euler).
@@ -163,13 +165,16 @@ class World {
     ExplicitWorkspace explicit_workspace;
     AdaptiveState adaptive;
     ClothState trial;
-    SolveLedger ledger;      // settings.energy_budget: the solve phase's flows
+    SolveLedger ledger;                  // settings.energy_budget: the solve phase's flows
     Eigen::VectorXd shortest_rest_edge;  // per vertex (settings.max_travel_edges), sized on first use
   };
 
   // settings.substeps, or the fewest sub-steps that keep every cloth vertex within
   // settings.max_travel_edges of its shortest rest edges (see there).
+  // Whether contact runs inside the solve (collision.response "barrier" with implicit Euler).
+  bool barrier_response() const;
   int substeps_for_step();
+  void prepare_barrier();
   void move_colliders(double h);
   void integrate(double h, int substep, StepStats& stats);
   void resolve_collisions(double h, StepStats& stats);
@@ -183,10 +188,14 @@ class World {
   std::vector<TriangleMesh> collider_surfaces_;  // at time 0
   std::vector<ContactMaterial> materials_;       // per cloth
   CollisionPhase collisions_;
+  BarrierContact barrier_;  // the barrier response's meshes and pairs
+  bool barrier_meshes_stale_ = true;
+  std::vector<Positions> step_start_;  // each cloth's positions at the sub-step's start
+  std::vector<const Positions*> barrier_current_, barrier_start_;  // prepare_cloth's arguments
   std::vector<std::array<int, 3>> restored_near_pairs_;  // restore_contact_history, until the next step
   bool near_pairs_restored_ = false;
-  bool collision_meshes_stale_ = true;           // cloths or colliders added since the last step
-  std::vector<Positions> external_forces_;       // one per cloth (3 x n_vertices)
+  bool collision_meshes_stale_ = true;      // cloths or colliders added since the last step
+  std::vector<Positions> external_forces_;  // one per cloth (3 x n_vertices)
   double time_ = 0.0;
   StepStats stats_;
   std::vector<NewtonLogRow> newton_log_;  // newton_log(); allocates only to grow
@@ -209,7 +218,7 @@ constexpr int max_threads = 256;
 // How a frame of 1/fps seconds is cut into equal steps no longer than max_time_step.
 struct FrameSchedule {
   int steps_per_frame = 1;
-  double time_step = 0.0;          // (1/fps) / steps_per_frame
+  double time_step = 0.0;  // (1/fps) / steps_per_frame
 };
 // Throws std::out_of_range when that takes more than max_steps_per_frame steps.
 FrameSchedule frame_schedule(double fps, double max_time_step);

@@ -1,0 +1,70 @@
+#pragma once
+// Contact as implicit Euler's Newton solve sees it (collision.response "barrier"): an energy of
+// the cloth's positions (barrier and lagged friction, physics/contact_barrier.hpp), and, for each
+// Newton direction, the largest step along it that keeps every pair apart. The solver takes no
+// step beyond that bound, so every iterate is free of intersections when the start is
+// (sim/barrier_contact.hpp implements it over the world's meshes).
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/math.hpp"
+
+namespace weft {
+
+class SparseHessian;
+
+// The contact Hessian as blocks: contact c joins up to four cloth vertices (-1: a vertex of
+// another mesh, held fixed in this solve) with weights w, and its Hessian block between its
+// vertices j and k is w_j w_k K_c (K_c symmetric PSD, so the whole is PSD).
+struct ContactBlocks {
+  std::vector<std::array<int, 4>> vertices;
+  std::vector<std::array<double, 4>> weights;
+  std::vector<Mat3> blocks;
+  std::vector<int> coupled;  // index_coupled(): contacts joining two or more cloth vertices
+
+  void clear() {
+    vertices.clear();
+    weights.clear();
+    blocks.clear();
+    coupled.clear();
+  }
+  bool empty() const { return blocks.empty(); }
+  // Lists the contacts that join two or more cloth vertices (the only ones with off-diagonal
+  // blocks) and returns whether there are any (then CG needs add_coupling_product).
+  bool index_coupled();
+  // Adds each contact's w_k^2 K at its cloth vertices to the matrix's diagonal blocks.
+  void add_diagonal(SparseHessian& hessian) const;
+  // y += (off-diagonal blocks) p over the vertices where `free` is 1 (3n vectors).
+  void add_coupling_product(const Eigen::VectorXd& free, const Eigen::VectorXd& p, Eigen::VectorXd& y) const;
+};
+
+// What a step's contact did, for the step's stats.
+struct SolveContactReport {
+  int detections = 0;              // candidate searches run in the step
+  int pairs = 0;                   // pairs within the contact radius at the step's end
+  int vertex_face_candidates = 0;  // candidates of the step's last search
+  int edge_edge_candidates = 0;
+  int limited_steps = 0;           // Newton steps (and the predictor) shortened to keep pairs apart
+  double smallest_distance = 0.0;  // m, over the pairs at the step's end (0: none)
+};
+
+class SolveContact {
+ public:
+  virtual ~SolveContact() = default;
+  // The step's start (free of intersections): friction is lagged here.
+  virtual void begin_step(const Positions& x_start, double h) = 0;
+  // Finds the pairs that may come within the contact radius along x -> x + dx (they are the
+  // ones evaluate() reads until the next call) and returns the largest fraction of dx, in
+  // [0, 1], along which every pair keeps a positive distance.
+  virtual double max_step(const Positions& x, const Positions& dx) = 0;
+  // The contact energy at a point of the last max_step's segment; adds its gradient (when not
+  // null) and its Hessian blocks (when not null; cleared first).
+  virtual double evaluate(const Positions& x, Positions* gradient, ContactBlocks* blocks) = 0;
+  // The energy that is potential (the barrier; friction is dissipation) at the last evaluate().
+  virtual double last_potential() const = 0;
+  virtual const SolveContactReport& report() const = 0;
+};
+
+}  // namespace weft

@@ -1,0 +1,145 @@
+#pragma once
+// Contact inside implicit Euler's solve (collision.response "barrier"): the SolveContact of one
+// world's meshes. Each cloth's Newton solve sees, as energy, every vertex-face and edge-edge pair
+// of the cloth (self, against other cloths, against colliders) closer than the contact radius:
+// kappa b(d) with the log barrier b (physics/contact_barrier.hpp) on the pair's distance and
+// kappa = stiffness_ratio times the cloth's mean vertex m / h^2, plus lagged Coulomb friction on
+// the pairs in contact at the step's start. Its line search never goes past the step that
+// additive continuous collision detection (conservative advancement on the pair's distance, after
+// Li et al. 2021) allows along the Newton direction, so every iterate keeps each pair's distance
+// positive: no impact zones, no CCD passes, no limiter after the solve. The other meshes are
+// held where they are during a cloth's solve (cloths solve one after the other); colliders must
+// be static (the scene loader refuses moving ones with this response).
+//
+// The pairs come from the collision hierarchies (collision/primitive_queries.hpp) over the boxes
+// each vertex sweeps along the Newton direction, inflated by the contact radius: every pair that
+// can come within it anywhere along the segment, and none that cannot.
+#include <vector>
+
+#include "collision/bvh.hpp"
+#include "collision/candidates.hpp"
+#include "collision/collider.hpp"
+#include "collision/primitive_queries.hpp"
+#include "core/topology.hpp"
+#include "physics/cloth.hpp"
+#include "physics/solve_contact.hpp"
+
+namespace weft {
+
+struct BarrierSettings {
+  double contact_radius = 0.0;   // m, dhat; 0: each pair's larger cloth thickness
+  double stiffness_ratio = 1.0;  // kappa over the cloth's mean vertex m / h^2
+  double slip_speed = 1e-2;      // m/s: friction's smoothing eps is this times h
+  double min_separation = 0.1;   // a step along a Newton direction keeps each pair at least this
+                                 // share of its distance at the step's start
+};
+
+// One mesh as the barrier sees it: a cloth or a static collider surface.
+struct BarrierMesh {
+  Triangles triangles;     // (3 x n_triangles), local indices
+  Positions positions;     // (3 x n_vertices): colliders' fixed pose; cloths' filled each solve
+  double thickness = 0.0;  // cloths; 0 for colliders
+  double friction = 0.0;   // Coulomb coefficient (a cloth-cloth pair takes the mean)
+  bool self_collision = false;
+  bool is_cloth = true;
+};
+
+class BarrierContact : public SolveContact {
+ public:
+  BarrierSettings settings;
+
+  // Registers the meshes, cloths first (their positions are read in prepare_cloth), and the
+  // colliders of analytic shape (plane, sphere, box, capsule, cylinder), whose contact is each
+  // cloth vertex against the collider's signed distance (collision/collider.hpp); mesh colliders
+  // come as meshes. Allocates.
+  void set_meshes(const std::vector<BarrierMesh>& meshes, const std::vector<Collider>& analytic = {});
+  int num_meshes() const { return static_cast<int>(slots_.size()); }
+  // Before cloth `cloth`'s solve: every cloth's current positions (the others stay there during
+  // it) and their positions at the step's start (the others' friction displacement), and the
+  // cloth's mean vertex mass. Allocates nothing once grown.
+  void prepare_cloth(int cloth, const std::vector<const Positions*>& current,
+                     const std::vector<const Positions*>& step_start, const Eigen::VectorXd& inverse_mass,
+                     double mean_mass);
+
+  void begin_step(const Positions& x_start, double h) override;
+  double max_step(const Positions& x, const Positions& dx) override;
+  double evaluate(const Positions& x, Positions* gradient, ContactBlocks* blocks) override;
+  double last_potential() const override { return last_potential_; }
+  const SolveContactReport& report() const override { return report_; }
+
+ private:
+  struct Slot {
+    BarrierMesh mesh;
+    MeshTopology topology;
+    MeshIndexOffsets offsets;
+    Triangles global_triangles, vertex_entries, edge_entries;
+    Bvh bvh, vertex_bvh, edge_bvh;
+    bool built = false;
+  };
+  // A pair's four vertices in combined indices (vertex-face: the vertex then the triangle's
+  // corners; edge-edge: edge a's ends then edge b's), and the two meshes it joins.
+  struct Stencil {
+    std::array<int, 4> vertices;
+    bool edge_edge;
+  };
+  // A pair's distance at a point: d, the unit normal n from the second primitive to the first,
+  // and the weights w with d = n . sum_k w_k x_k.
+  struct PairGeometry {
+    double distance;
+    Vec3 normal;
+    std::array<double, 4> weights;
+  };
+  // A cloth vertex near an analytic collider: its signed distance and outward normal.
+  struct SolidPair {
+    int vertex;    // local in the solving cloth
+    int collider;  // index into analytic_
+  };
+  struct FrictionPair {
+    std::array<int, 4> vertices;  // local cloth vertex, or -1
+    std::array<double, 4> weights;
+    Mat3 tangent;        // I - n n^T at the step's start
+    Vec3 fixed_slip;     // the tangential displacement of the contact's vertices outside the cloth
+    double coefficient;  // mu lambda, N
+  };
+
+  PrimitiveMesh primitive_mesh(const Slot& slot) const;
+  void update_hierarchies(Slot& slot, const Positions& from, const Positions& to);
+  Stencil stencil(const VertexFacePair& pair) const;
+  Stencil stencil(const EdgeEdgePair& pair) const;
+  Vec3 position(int combined, const Positions& x) const;  // the solving cloth's from x
+  PairGeometry geometry(const Stencil& stencil, const Positions& x) const;
+  double pair_radius(const Stencil& stencil) const;
+  double pair_friction(const Stencil& stencil) const;
+  bool has_free_vertex(const Stencil& stencil) const;
+  double advance(const Stencil& stencil) const;
+  double advance(const SolidPair& pair, const Positions& x, const Positions& dx) const;
+  double contact_radius() const;  // the largest pair radius
+  int local(int combined) const;  // local index in the solving cloth, or -1
+
+  std::vector<Slot> slots_;
+  std::vector<Collider> analytic_;
+  std::vector<SolidPair> solid_pairs_;  // max_step's vertex-collider pairs
+  std::vector<double> solid_distance_;  // evaluate()'s scratch, per solid pair
+  std::vector<Vec3> solid_normal_;
+  int num_cloths_ = 0;
+  int cloth_ = -1;                // the solving cloth
+  Eigen::VectorXd inverse_mass_;  // the solving cloth's
+  double mean_mass_ = 0.0;
+  double kappa_ = 0.0;            // N/m
+  double epsilon_ = 0.0;          // m, friction smoothing
+  std::vector<int> vertex_mesh_;  // combined vertex -> mesh
+  Eigen::Matrix2Xi edges_;        // combined edges (2 x n_edges)
+  Positions from_, to_, start_;   // combined positions: segment ends, step start (3 x n_vertices)
+  Positions lower_, upper_;       // swept vertex boxes
+  BvhQueryBuffers buffers_;
+  CollisionCandidates candidates_;
+  std::vector<Stencil> stencils_;       // candidates_ with a free vertex of the solving cloth
+  std::vector<PairGeometry> geometry_;  // scratch of evaluate()
+  std::vector<FrictionPair> friction_;
+  Positions zero_;          // zeros (3 x n): begin_step's search at the start
+  Positions x_step_start_;  // the solving cloth's positions at the step's start
+  double last_potential_ = 0.0;
+  SolveContactReport report_;
+};
+
+}  // namespace weft
