@@ -516,6 +516,23 @@ std::vector<std::string> split_path(const std::string& path) {
   return tokens;
 }
 
+// Contact inside the solve (sim/barrier_contact.hpp) runs in implicit Euler's Newton solve and
+// holds colliders still during it: other integrators and moving colliders are refused, not
+// silently given the impulse response.
+void check_barrier_response(const ObjectReader& reader, const SceneDesc& scene) {
+  if (scene.collision.response != CollisionResponse::barrier || !scene.collision.enabled) return;
+  if (scene.integrator != IntegratorKind::implicit_euler) {
+    reader.fail("/collision/response", "the \"barrier\" response needs solver.integrator \"implicit_euler\"");
+  }
+  for (size_t k = 0; k < scene.colliders.size(); ++k) {
+    if (!scene.colliders[k].motion.is_static()) {
+      reader.fail("/collision/response", "the \"barrier\" response needs static colliders; collider " +
+                                             std::to_string(k) + " (\"" + scene.colliders[k].name +
+                                             "\") moves: use \"impulse\"");
+    }
+  }
+}
+
 }  // namespace
 
 SceneDesc parse_scene(const json& document, const std::string& file) {
@@ -579,6 +596,7 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
     collision.number("contact_radius", settings.barrier.contact_radius, non_negative);
     collision.number("contact_stiffness_ratio", settings.barrier.stiffness_ratio, positive);
     collision.number("slip_speed", settings.barrier.slip_speed, positive);
+    collision.boolean("analytic_colliders", settings.barrier.analytic_colliders);
     collision.number("repulsion_stiffness", settings.repulsion_stiffness, non_negative);
     collision.number("ccd_tolerance", settings.ccd_tolerance, positive);
     collision.number("ccd_separation", settings.ccd_separation, unit_closed);
@@ -601,6 +619,7 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
       scene.colliders.push_back(read_collider((*colliders)[k], "/colliders/" + std::to_string(k), file));
     }
   }
+  check_barrier_response(reader, scene);
   if (const json* view_value = reader.find("view")) {
     ObjectReader view(*view_value, "/view", file);
     if (view.has("target")) scene.view.has_target = true;
@@ -803,6 +822,7 @@ json scene_to_json(const SceneDesc& scene) {
                            {"contact_radius", scene.collision.barrier.contact_radius},
                            {"contact_stiffness_ratio", scene.collision.barrier.stiffness_ratio},
                            {"slip_speed", scene.collision.barrier.slip_speed},
+                           {"analytic_colliders", scene.collision.barrier.analytic_colliders},
                            {"penalty_stiffness", scene.collision.penalty_stiffness},
                            {"collider_contact_ratio", scene.collision.collider_contact_ratio},
                            {"strain_limit", scene.collision.strain_limit},

@@ -30,8 +30,13 @@ struct BarrierSettings {
   double contact_radius = 0.0;   // m, dhat; 0: each pair's larger cloth thickness
   double stiffness_ratio = 1.0;  // kappa over the cloth's mean vertex m / h^2
   double slip_speed = 1e-2;      // m/s: friction's smoothing eps is this times h
-  double min_separation = 0.1;   // a step along a Newton direction keeps each pair at least this
-                                 // share of its distance at the step's start
+  // Analytic colliders (plane, sphere, box, capsule, cylinder) by their signed distance, one
+  // contact a cloth vertex (fewer pairs than their triangle meshes give), instead of as meshes.
+  // Vertices only: a cloth triangle may still cut a sharp collider edge or the collider's
+  // drawn mesh, which the exact intersection check counts; off by default.
+  bool analytic_colliders = false;
+  double min_separation = 0.1;  // a step along a Newton direction keeps each pair at least this
+                                // share of its distance at the step's start
 };
 
 // One mesh as the barrier sees it: a cloth or a static collider surface.

@@ -157,7 +157,7 @@ void World::prepare_barrier() {
     }
     std::vector<Collider> analytic;
     for (size_t k = 0; k < colliders_.size(); ++k) {
-      if (colliders_[k].shape != ColliderShape::mesh) {
+      if (settings.collision.barrier.analytic_colliders && colliders_[k].shape != ColliderShape::mesh) {
         analytic.push_back(colliders_[k]);
         continue;
       }

@@ -431,5 +431,15 @@ TEST(SceneFile, MeshCollidersLoadTheirObjBesideTheScene) {
   EXPECT_EQ(world.collider_positions(0).col(1), Vec3(1, 0, 0));
 }
 
+TEST(SceneFile, TheBarrierResponseRefusesWhatItCannotHold) {
+  expect_scene_error(minimal_scene,
+                     {"solver.integrator=\"implicit_euler\"", "collision.response=\"barrier\"",
+                      "colliders.0.motion.velocity=[0,1,0]"},
+                     "/collision/response", "needs static colliders; collider 0");
+  expect_scene_error(minimal_scene, {"collision.response=\"barrier\""}, "/collision/response",
+                     "needs solver.integrator \"implicit_euler\"");
+  expect_scene_error(minimal_scene, {"collision.response=\"soft\""}, "/collision/response", "impulse");
+}
+
 }  // namespace
 }  // namespace weft

@@ -1,0 +1,245 @@
+// Contact inside the solve (collision.response "barrier", sim/barrier_contact.hpp): the contact
+// energy's gradient against finite differences (barrier over vertex-face, edge-edge and
+// analytic-collider pairs, and lagged friction), its Hessian blocks positive semidefinite, the
+// step bound keeping a vertex from passing through a triangle, and whole scenes judged by the
+// exact intersection check written apart from the collision code (tests/support/scene_invariants.hpp).
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "collision/point_triangle.hpp"
+#include "core/mesh_generators.hpp"
+#include "io/scene_builder.hpp"
+#include "io/scene_file.hpp"
+#include "sim/barrier_contact.hpp"
+#include "sim/world.hpp"
+#include "support/scene_invariants.hpp"
+#include "support/taylor.hpp"
+
+namespace weft {
+namespace {
+
+const std::string source_dir = WEFT_SOURCE_DIR;
+
+Mat3 rotation_about(const Vec3& axis, double degrees) {
+  return Eigen::AngleAxisd(degrees * 3.14159265358979 / 180.0, axis.normalized()).toRotationMatrix();
+}
+
+// A 4 x 4 cloth in the XY plane over a tilted, turned mesh sheet 2-4 mm below it and a sphere
+// whose top is 2 mm below one of its vertices: vertex-face and edge-edge pairs both ways, and an
+// analytic-collider pair, all within the 5 mm contact radius.
+struct ContactFixture {
+  BarrierContact contact;
+  Positions x_start;
+  Eigen::VectorXd inverse_mass;
+  Positions cloth_now;  // what prepare_cloth reads as the cloth's current positions
+
+  ContactFixture() {
+    const TriangleMesh cloth = make_grid(4, 4, 0.06, 0.06, GridTriangulation::alternating);
+    x_start = cloth.positions;
+    TriangleMesh floor = make_grid(5, 5, 0.12, 0.12, GridTriangulation::alternating);
+    const Mat3 turn = rotation_about(Vec3::UnitZ(), 17.0) * rotation_about(Vec3::UnitX(), 1.0);
+    for (Eigen::Index i = 0; i < floor.positions.cols(); ++i) {
+      floor.positions.col(i) = turn * floor.positions.col(i) - Vec3(0.001, 0.0005, 0.003);
+    }
+    Collider sphere;
+    sphere.shape = ColliderShape::sphere;
+    sphere.radius = 0.05;
+    sphere.center = Vec3(x_start(0, 5), x_start(1, 5), -0.05 - 0.002);
+    sphere.friction = 0.4;
+    contact.settings.contact_radius = 5e-3;
+    contact.set_meshes({{cloth.triangles, x_start, 0.005, 0.3, true, true},
+                        {floor.triangles, floor.positions, 0.0, 0.5, false, false}},
+                       {sphere});
+    inverse_mass = Eigen::VectorXd::Constant(x_start.cols(), 1.0 / 2e-4);
+    cloth_now = x_start;
+    contact.prepare_cloth(0, {&cloth_now}, {&x_start}, inverse_mass, 2e-4);
+    contact.begin_step(x_start, 1.0 / 120.0);
+  }
+};
+
+TEST(BarrierContact, GradientMatchesTheEnergyToSecondOrder) {
+  ContactFixture fixture;
+  // A point moved sideways (friction in its smoothed and its sliding range) and slightly down.
+  Positions x = fixture.x_start;
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (Eigen::Index i = 0; i < x.cols(); ++i) x.col(i) += Vec3(4e-5 * (i % 3), 2e-4 * uniform(random), -3e-4);
+  BarrierContact& contact = fixture.contact;
+  contact.max_step(x, Positions::Zero(3, x.cols()));
+  Positions gradient = Positions::Zero(3, x.cols());
+  const double energy = contact.evaluate(x, &gradient, nullptr);
+  ASSERT_GT(contact.report().pairs, 10);
+  ASSERT_GT(energy, 0.0);
+  Positions direction(3, x.cols());
+  for (Eigen::Index i = 0; i < direction.size(); ++i) direction.data()[i] = uniform(random);
+  const double slope = (gradient.cwiseProduct(direction)).sum();
+  const auto remainder = [&](double eps) {
+    const Positions moved = x + eps * direction;
+    return std::abs(contact.evaluate(moved, nullptr, nullptr) - energy - eps * slope);
+  };
+  EXPECT_TRUE(testing::all_near_quarter(testing::halving_ratios(remainder, 2e-5, 5)));
+}
+
+TEST(BarrierContact, HessianBlocksArePositiveSemidefinite) {
+  ContactFixture fixture;
+  Positions x = fixture.x_start;
+  for (Eigen::Index i = 0; i < x.cols(); ++i) x.col(i) += Vec3(1e-4 * (i % 2), 5e-5, -5e-4);
+  fixture.contact.max_step(x, Positions::Zero(3, x.cols()));
+  ContactBlocks blocks;
+  fixture.contact.evaluate(x, nullptr, &blocks);
+  ASSERT_GT(blocks.blocks.size(), 10u);
+  for (const Mat3& block : blocks.blocks) {
+    const Eigen::SelfAdjointEigenSolver<Mat3> eigen(block);
+    EXPECT_GE(eigen.eigenvalues().minCoeff(), -1e-9 * std::max(1.0, eigen.eigenvalues().maxCoeff()));
+    EXPECT_LT((block - block.transpose()).norm(), 1e-9 * std::max(1.0, block.norm()));
+  }
+}
+
+TEST(BarrierContact, NoStepCarriesAVertexThroughATriangle) {
+  // One triangle of the floor 3 mm under a cloth vertex that a step would move 2 cm down.
+  ContactFixture fixture;
+  Positions dx = Positions::Zero(3, fixture.x_start.cols());
+  dx.col(6) = Vec3(0.0, 0.0, -0.02);
+  const double alpha = fixture.contact.max_step(fixture.x_start, dx);
+  ASSERT_LT(alpha, 1.0);
+  EXPECT_GT(alpha, 0.0);
+  // Judged against the floor's triangles directly: the vertex stays above all of them.
+  const TriangleMesh floor_grid = make_grid(5, 5, 0.12, 0.12, GridTriangulation::alternating);
+  const Mat3 turn = rotation_about(Vec3::UnitZ(), 17.0) * rotation_about(Vec3::UnitX(), 1.0);
+  Positions floor = floor_grid.positions;
+  for (Eigen::Index i = 0; i < floor.cols(); ++i)
+    floor.col(i) = turn * floor.col(i) - Vec3(0.001, 0.0005, 0.003);
+  const Vec3 start = fixture.x_start.col(6), end = start + alpha * dx.col(6);
+  double closest_start = 1.0, closest_end = 1.0;
+  for (Eigen::Index t = 0; t < floor_grid.triangles.cols(); ++t) {
+    const auto c = floor_grid.triangles.col(t);
+    closest_start =
+        std::min(closest_start,
+                 point_triangle_closest(start, floor.col(c[0]), floor.col(c[1]), floor.col(c[2])).distance);
+    closest_end = std::min(
+        closest_end, point_triangle_closest(end, floor.col(c[0]), floor.col(c[1]), floor.col(c[2])).distance);
+  }
+  EXPECT_GE(closest_end, 0.1 * closest_start * (1 - 1e-9));
+  EXPECT_LT(closest_end, 0.5 * closest_start);  // and it did go most of the way
+}
+
+struct BarrierRun {
+  bool clean = true;
+  testing::InvariantReport failure;
+  int unconverged_steps = 0;
+  int steps_with_contacts = 0;
+  double largest_edge_stretch = 1.0;
+  double largest_budget_error = 0.0;  // |energy budget error| over the initial energy
+};
+
+double largest_edge_stretch(const Cloth& cloth) {
+  double largest = 1.0;
+  const Triangles& triangles = cloth.model.triangles;
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = triangles(k, t), b = triangles((k + 1) % 3, t);
+      const double rest = (cloth.model.rest_positions.col(a) - cloth.model.rest_positions.col(b)).norm();
+      largest = std::max(largest, (cloth.state.x.col(a) - cloth.state.x.col(b)).norm() / rest);
+    }
+  }
+  return largest;
+}
+
+BarrierRun run_barrier(const std::string& name, std::vector<std::string> overrides, int frames) {
+  overrides.push_back("collision.response=\"barrier\"");
+  overrides.push_back("collision.strain_limit=0");
+  const SceneDesc scene = load_scene_file(source_dir + "/scenes/" + name + ".json", overrides);
+  World world = build_world(scene);
+  const testing::SceneInvariants invariants(world);
+  EXPECT_TRUE(invariants.check(world).ok());
+  const double initial = world.energies().total();
+  double budget = 0.0;  // running sum of the budget's error
+  BarrierRun run;
+  const FrameSchedule schedule = frame_schedule(scene.fps, scene.time_step);
+  for (int frame = 1; frame <= frames && run.clean; ++frame) {
+    for (int step = 0; step < schedule.steps_per_frame; ++step) {
+      const double before = world.energies().total();
+      world.step();
+      const StepStats& stats = world.last_step_stats();
+      run.unconverged_steps += stats.unconverged_steps;
+      run.steps_with_contacts += stats.contacts > 0 ? 1 : 0;
+      const EnergyFlows& flows = stats.energy_flows;
+      budget += world.energies().total() - before - flows.external_work + flows.dissipated();
+      run.largest_budget_error = std::max(run.largest_budget_error, std::abs(budget) / std::abs(initial));
+    }
+    for (const Cloth& cloth : world.cloths()) {
+      run.largest_edge_stretch = std::max(run.largest_edge_stretch, largest_edge_stretch(cloth));
+    }
+    const testing::InvariantReport report = invariants.check(world);
+    if (!report.ok()) {
+      run.clean = false;
+      run.failure = report;
+    }
+  }
+  return run;
+}
+
+void expect_clean(const BarrierRun& run) {
+  EXPECT_TRUE(run.clean) << run.failure.intersecting_pairs << " intersecting pairs, "
+                         << run.failure.vertices_crossed << " vertices crossed; first: " << run.failure.first;
+}
+
+TEST(BarrierResponse, DrapeStaysCleanConvergedAndBudgeted) {
+  // Starting 0.15 m above the sphere: contact from the third frame, folds over it by frame 15.
+  const BarrierRun run =
+      run_barrier("drape_sphere",
+                  {"cloths.0.grid.resolution=[16,16]", "cloths.0.transform.translation=[0,0.65,0]",
+                   "solver.time_step=0.011111111111111112", "solver.newton.max_iterations=200"},
+                  15);
+  expect_clean(run);
+  EXPECT_EQ(run.unconverged_steps, 0);
+  EXPECT_GT(run.steps_with_contacts, 20);
+  EXPECT_LT(run.largest_budget_error, 0.01);
+}
+
+TEST(BarrierResponse, ImpactAt20MetresASecondNeedsNoStrainLimit) {
+  // The membrane's wave speed sqrt(E t / rho) is ~112 m/s: a 20 m/s impact strains it ~18%, not
+  // the many times over a response after the solve left.
+  for (const char* step : {"0.004166666666666667", "0.008333333333333333"}) {
+    for (const char* half_thickness : {"0.001", "0.005"}) {
+      SCOPED_TRACE(std::string("h ") + step + ", box half thickness " + half_thickness);
+      const BarrierRun run =
+          run_barrier("fast_drop",
+                      {std::string("solver.time_step=") + step, "solver.newton.tolerance=1e-2",
+                       "solver.newton.max_iterations=600",
+                       std::string("colliders.0.half_extents=[0.3,") + half_thickness + ",0.3]"},
+                      8);
+      expect_clean(run);
+      EXPECT_EQ(run.unconverged_steps, 0);
+      EXPECT_LE(run.largest_edge_stretch, 1.3);
+      EXPECT_GT(run.steps_with_contacts, 5);
+    }
+  }
+}
+
+TEST(BarrierResponse, SameBytesOnOneAndTwoThreads) {
+  std::vector<Positions> ends;
+  for (const int threads : {1, 2}) {
+    const SceneDesc scene =
+        load_scene_file(source_dir + "/scenes/drape_sphere.json",
+                        {"cloths.0.grid.resolution=[16,16]", "cloths.0.transform.translation=[0,0.6,0]",
+                         "collision.response=\"barrier\"", "collision.strain_limit=0",
+                         "solver.time_step=0.011111111111111112"});
+    World world = build_world(scene);
+    world.settings.threads = threads;
+    world.settings.adapt_threads = false;
+    for (int step = 0; step < 24; ++step) world.step();
+    EXPECT_GT(world.last_step_stats().contacts, 0);
+    ends.push_back(world.cloths()[0].state.x);
+  }
+  EXPECT_EQ(std::memcmp(ends[0].data(), ends[1].data(), sizeof(double) * ends[0].size()), 0);
+}
+
+}  // namespace
+}  // namespace weft
