@@ -24,4 +24,7 @@ set_tests_properties(
   TierGates.TheShippedDrapeSettingsPassEveryGate
   TierGates.TheFastTierPassesEveryGate
   TierGates.CandidatesThatShouldFailDo
+  # ~20 s in release: four 20 m/s impacts with the barrier response, up to 600 Newton iterations
+  # a step; BarrierResponse.DrapeStaysCleanConvergedAndBudgeted runs the same code.
+  BarrierResponse.ImpactAt20MetresASecondNeedsNoStrainLimit
   PROPERTIES LABELS not_under_asan)
