@@ -201,9 +201,8 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   // every pair apart; the pins then reach x_hat through the Newton steps.
   if (contact_ != nullptr) {
     pin_targets_ = x_hat_;
-    contact_->begin_step(x_start_, h);
     trial_ = x_hat_ - x_start_;
-    const double alpha = contact_->max_step(x_start_, trial_);
+    const double alpha = contact_->begin_step(x_start_, trial_, h);
     if (alpha < 1.0) x.noalias() = x_start_ + alpha * trial_;
   }
   // Every pin on its target (always, without contact in the solve).

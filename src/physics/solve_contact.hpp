@@ -53,8 +53,10 @@ struct SolveContactReport {
 class SolveContact {
  public:
   virtual ~SolveContact() = default;
-  // The step's start (free of intersections): friction is lagged here.
-  virtual void begin_step(const Positions& x_start, double h) = 0;
+  // The step's start (free of intersections): finds the pairs along the predictor's motion
+  // x_start -> x_start + predictor, lags friction at x_start and returns the predictor's bound
+  // (as max_step does).
+  virtual double begin_step(const Positions& x_start, const Positions& predictor, double h) = 0;
   // Finds the pairs that may come within the contact radius along x -> x + dx (they are the
   // ones evaluate() reads until the next call) and returns the largest fraction of dx, in
   // [0, 1], along which every pair keeps a positive distance.

@@ -171,10 +171,32 @@ BarrierContact::PairGeometry BarrierContact::geometry(const Stencil& stencil, co
   return g;
 }
 
-// Conservative advancement along the segment from_ -> to_: the pair's distance falls at most at
-// the rate of its vertices' largest relative displacement (lp), so advancing by
-// (d - target) / lp keeps it above target; repeated from each new distance until the segment's
-// end or until the steps become negligible.
+namespace {
+
+// Conservative advancement over t in [0, 1]: distance(t) falls at most at the rate lp, so
+// advancing by (d - target) / lp keeps it above target = min_separation distance(0); repeated
+// from each new distance until the segment's end (1) or until the advances become negligible
+// (the t reached). A start at or below zero distance returns 0.
+template <class Distance>
+double advance_conservatively(const Distance& distance, double lp, double min_separation) {
+  if (!(lp > 0.0)) return 1.0;
+  const double d0 = distance(0.0);
+  const double target = min_separation * d0;
+  double t = 0.0, d = d0;
+  for (int iteration = 0; iteration < 64; ++iteration) {
+    const double advance = (d - target) / lp;
+    if (t + advance >= 1.0) return 1.0;
+    if (advance < 1e-6) break;
+    t += advance;
+    d = distance(t);
+  }
+  return t;
+}
+
+}  // namespace
+
+// A pair along the segment from_ -> to_: its distance falls at most at the rate of its vertices'
+// largest relative displacement (after Li et al. 2021, additive CCD).
 double BarrierContact::advance(const Stencil& stencil) const {
   std::array<Vec3, 4> p, q;
   Vec3 mean = Vec3::Zero();
@@ -187,44 +209,23 @@ double BarrierContact::advance(const Stencil& stencil) const {
   const double lp = stencil.edge_edge
                         ? std::max(q[0].norm(), q[1].norm()) + std::max(q[2].norm(), q[3].norm())
                         : q[0].norm() + std::max({q[1].norm(), q[2].norm(), q[3].norm()});
-  if (!(lp > 0.0)) return 1.0;
   const auto distance = [&](double t) {
     const Vec3 a = p[0] + t * q[0], b = p[1] + t * q[1], c = p[2] + t * q[2], d = p[3] + t * q[3];
     return stencil.edge_edge ? edge_edge_closest(a, b, c, d).distance
                              : point_triangle_closest(a, b, c, d).distance;
   };
-  const double d0 = distance(0.0);
-  const double target = settings.min_separation * d0;
-  double t = 0.0, d = d0;
-  for (int iteration = 0; iteration < 64; ++iteration) {
-    const double advance = (d - target) / lp;
-    if (t + advance >= 1.0) return 1.0;
-    if (advance < 1e-6) break;
-    t += advance;
-    d = distance(t);
-  }
-  return t;
+  return advance_conservatively(distance, lp, settings.min_separation);
 }
 
-// The same against a collider's signed distance, which changes at most as fast as the vertex moves.
+// A vertex against a collider's signed distance, which changes at most as fast as the vertex moves.
 double BarrierContact::advance(const SolidPair& pair, const Positions& x, const Positions& dx) const {
   const Collider& collider = analytic_[pair.collider];
   const Vec3 p = x.col(pair.vertex), q = dx.col(pair.vertex);
-  const double lp = q.norm();
-  if (!(lp > 0.0)) return 1.0;
-  Vec3 normal;
-  const double d0 = signed_distance(collider, p, normal);
-  if (!(d0 > 0.0)) return 0.0;
-  const double target = settings.min_separation * d0;
-  double t = 0.0, d = d0;
-  for (int iteration = 0; iteration < 64; ++iteration) {
-    const double advance = (d - target) / lp;
-    if (t + advance >= 1.0) return 1.0;
-    if (advance < 1e-6) break;
-    t += advance;
-    d = signed_distance(collider, p + t * q, normal);
-  }
-  return t;
+  const auto distance = [&](double t) {
+    Vec3 normal;
+    return signed_distance(collider, p + t * q, normal);
+  };
+  return advance_conservatively(distance, q.norm(), settings.min_separation);
 }
 
 double BarrierContact::max_step(const Positions& x, const Positions& dx) {
@@ -279,13 +280,13 @@ double BarrierContact::max_step(const Positions& x, const Positions& dx) {
   return alpha;
 }
 
-void BarrierContact::begin_step(const Positions& x_start, double h) {
+double BarrierContact::begin_step(const Positions& x_start, const Positions& predictor, double h) {
   report_ = SolveContactReport{};
   kappa_ = settings.stiffness_ratio * mean_mass_ / (h * h);
   epsilon_ = settings.slip_speed * h;
-  // The pairs in contact at the step's start, with their normal force, normal and weights there.
-  zero_.setZero(3, x_start.cols());
-  max_step(x_start, zero_);
+  // The pairs along the predictor hold every pair within the radius at x_start (the segment's
+  // start): those in contact there keep their normal force, normal and weights for the step.
+  const double alpha = max_step(x_start, predictor);
   friction_.clear();
   for (const Stencil& s : stencils_) {
     const PairGeometry g = geometry(s, x_start);
@@ -324,6 +325,7 @@ void BarrierContact::begin_step(const Positions& x_start, double h) {
     friction_.push_back(f);
   }
   x_step_start_ = x_start;
+  return alpha;
 }
 
 double BarrierContact::evaluate(const Positions& x, Positions* gradient, ContactBlocks* blocks) {

@@ -66,7 +66,7 @@ class BarrierContact : public SolveContact {
                      const std::vector<const Positions*>& step_start, const Eigen::VectorXd& inverse_mass,
                      double mean_mass);
 
-  void begin_step(const Positions& x_start, double h) override;
+  double begin_step(const Positions& x_start, const Positions& predictor, double h) override;
   double max_step(const Positions& x, const Positions& dx) override;
   double evaluate(const Positions& x, Positions* gradient, ContactBlocks* blocks) override;
   double last_potential() const override { return last_potential_; }
@@ -141,7 +141,6 @@ class BarrierContact : public SolveContact {
   std::vector<Stencil> stencils_;       // candidates_ with a free vertex of the solving cloth
   std::vector<PairGeometry> geometry_;  // scratch of evaluate()
   std::vector<FrictionPair> friction_;
-  Positions zero_;          // zeros (3 x n): begin_step's search at the start
   Positions x_step_start_;  // the solving cloth's positions at the step's start
   double last_potential_ = 0.0;
   SolveContactReport report_;

@@ -168,7 +168,13 @@ void World::prepare_barrier() {
     barrier_meshes_stale_ = false;
   }
   step_start_.resize(cloths_.size());
-  for (size_t c = 0; c < cloths_.size(); ++c) step_start_[c] = cloths_[c].state.x;
+  barrier_current_.clear();
+  barrier_start_.clear();
+  for (size_t c = 0; c < cloths_.size(); ++c) {
+    step_start_[c] = cloths_[c].state.x;
+    barrier_current_.push_back(&cloths_[c].state.x);
+    barrier_start_.push_back(&step_start_[c]);
+  }
 }
 
 // Kinematic colliders follow their scripted motion: the collision phase poses them at both ends
@@ -216,12 +222,6 @@ void World::integrate(double h, int substep, StepStats& stats) {
     }
     solvers.penalty.contacts.clear();
     if (barrier_response()) {
-      barrier_current_.clear();
-      barrier_start_.clear();
-      for (size_t k = 0; k < cloths_.size(); ++k) {
-        barrier_current_.push_back(&cloths_[k].state.x);
-        barrier_start_.push_back(&step_start_[k]);
-      }
       barrier_.prepare_cloth(static_cast<int>(c), barrier_current_, barrier_start_, cloth.model.inverse_mass,
                              cloth.model.mass.sum() / std::max<Eigen::Index>(1, cloth.model.mass.size()));
     } else if (settings.collision.enabled && settings.integrator == IntegratorKind::implicit_euler) {

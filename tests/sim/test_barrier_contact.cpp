@@ -59,7 +59,7 @@ struct ContactFixture {
     inverse_mass = Eigen::VectorXd::Constant(x_start.cols(), 1.0 / 2e-4);
     cloth_now = x_start;
     contact.prepare_cloth(0, {&cloth_now}, {&x_start}, inverse_mass, 2e-4);
-    contact.begin_step(x_start, 1.0 / 120.0);
+    contact.begin_step(x_start, Positions::Zero(3, x_start.cols()), 1.0 / 120.0);
   }
 };
 
