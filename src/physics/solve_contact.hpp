@@ -42,12 +42,9 @@ struct ContactBlocks {
 
 // What a step's contact did, for the step's stats.
 struct SolveContactReport {
-  int detections = 0;              // candidate searches run in the step
   int pairs = 0;                   // pairs within the contact radius at the step's end
   int vertex_face_candidates = 0;  // candidates of the step's last search
   int edge_edge_candidates = 0;
-  int limited_steps = 0;           // Newton steps (and the predictor) shortened to keep pairs apart
-  double smallest_distance = 0.0;  // m, over the pairs at the step's end (0: none)
 };
 
 class SolveContact {

@@ -176,7 +176,10 @@ namespace {
 // Conservative advancement over t in [0, 1]: distance(t) falls at most at the rate lp, so
 // advancing by (d - target) / lp keeps it above target = min_separation distance(0); repeated
 // from each new distance until the segment's end (1) or until the advances become negligible
-// (the t reached). A start at or below zero distance returns 0.
+// (the t reached). A start at or below zero distance returns 0. A line search needs a safe
+// bound, not the earliest time within a distance that the continuous tests' search pins down
+// (earliest_proximity, collision/coplanarity_cubic.hpp): stopping once the advances are
+// negligible, and at the end without evaluating there, makes this one cheaper.
 template <class Distance>
 double advance_conservatively(const Distance& distance, double lp, double min_separation) {
   if (!(lp > 0.0)) return 1.0;
@@ -256,7 +259,6 @@ double BarrierContact::max_step(const Positions& x, const Positions& dx) {
     const Stencil s = stencil(pair);
     if (has_free_vertex(s)) stencils_.push_back(s);
   }
-  ++report_.detections;
   report_.vertex_face_candidates = static_cast<int>(candidates_.vertex_face.size());
   report_.edge_edge_candidates = static_cast<int>(candidates_.edge_edge.size());
   // Vertices that can come within the radius of an analytic collider along the segment.
@@ -276,7 +278,6 @@ double BarrierContact::max_step(const Positions& x, const Positions& dx) {
   const int solids = static_cast<int>(solid_pairs_.size());
 #pragma omp parallel for schedule(static) reduction(min : alpha) if (solids > 256)
   for (int i = 0; i < solids; ++i) alpha = std::min(alpha, advance(solid_pairs_[i], x, dx));
-  if (alpha < 1.0) ++report_.limited_steps;
   return alpha;
 }
 
@@ -336,7 +337,6 @@ double BarrierContact::evaluate(const Positions& x, Positions* gradient, Contact
   for (int i = 0; i < count; ++i) geometry_[i] = geometry(stencils_[i], x);
   double barrier = 0.0;
   int pairs = 0;
-  double smallest = 0.0;
   for (int i = 0; i < count; ++i) {
     const Stencil& s = stencils_[i];
     const PairGeometry& g = geometry_[i];
@@ -345,7 +345,6 @@ double BarrierContact::evaluate(const Positions& x, Positions* gradient, Contact
     if (!(g.distance > 0.0)) return std::numeric_limits<double>::infinity();
     const BarrierValue b = log_barrier(g.distance, radius);
     barrier += kappa_ * b.value;
-    smallest = pairs == 0 ? g.distance : std::min(smallest, g.distance);
     ++pairs;
     std::array<int, 4> vertices;
     for (int k = 0; k < 4; ++k) vertices[k] = local(s.vertices[k]);
@@ -378,7 +377,6 @@ double BarrierContact::evaluate(const Positions& x, Positions* gradient, Contact
     const Vec3& normal = solid_normal_[i];
     const int v = solid_pairs_[i].vertex;
     barrier += kappa_ * b.value;
-    smallest = pairs == 0 ? d : std::min(smallest, d);
     ++pairs;
     if (gradient != nullptr) gradient->col(v) += (kappa_ * b.first) * normal;
     if (blocks != nullptr) {
@@ -389,7 +387,6 @@ double BarrierContact::evaluate(const Positions& x, Positions* gradient, Contact
   }
   last_potential_ = barrier;
   report_.pairs = pairs;
-  report_.smallest_distance = smallest;
   // Lagged friction: mu lambda f0(|u|) on the tangential displacement u since the step's start.
   double friction = 0.0;
   for (const FrictionPair& f : friction_) {
