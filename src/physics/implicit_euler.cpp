@@ -99,8 +99,7 @@ double ImplicitEulerSolver::incremental_potential(const ClothModel& model, const
                                 hessian != nullptr ? &contact_blocks_ : nullptr);
     if (gradient != nullptr) *gradient += contact_gradient_;
     if (hessian != nullptr) {
-      contact_blocks_.add_diagonal(*hessian);
-      contact_coupled_ = contact_blocks_.index_coupled();
+      contact_coupled_ = contact_blocks_.assemble(*hessian);
     }
   }
   if (gradient != nullptr) {

@@ -156,7 +156,7 @@ class ImplicitEulerSolver {
   const ContactPenalty* penalty_ = nullptr;     // during step()
   SolveContact* contact_ = nullptr;             // during step()
   ContactBlocks contact_blocks_;                // its Hessian at x_linearized_
-  bool contact_coupled_ = false;                // contact_blocks_ joins cloth vertices
+  bool contact_coupled_ = false;                // contact_blocks_ has blocks off the pattern
   Positions contact_gradient_;                  // its gradient at the last evaluation
   Positions pin_targets_;                       // with contact_: x_hat (where every pin ends)
   Positions zero_motion_;                       // zeros (3 x n)

@@ -3,41 +3,33 @@
 
 namespace weft {
 
-bool ContactBlocks::index_coupled() {
-  coupled.clear();
-  for (size_t c = 0; c < vertices.size(); ++c) {
-    int inside = 0;
-    for (int k = 0; k < 4; ++k) inside += vertices[c][k] >= 0 ? 1 : 0;
-    if (inside > 1) coupled.push_back(static_cast<int>(c));
-  }
-  return !coupled.empty();
-}
-
-void ContactBlocks::add_diagonal(SparseHessian& hessian) const {
+bool ContactBlocks::assemble(SparseHessian& hessian) {
+  off_pattern.clear();
   for (size_t c = 0; c < blocks.size(); ++c) {
-    for (int k = 0; k < 4; ++k) {
-      const int v = vertices[c][k];
-      if (v >= 0) hessian.add_vertex_block(v, (weights[c][k] * weights[c][k]) * blocks[c]);
+    const std::array<int, 4>& v = vertices[c];
+    const std::array<double, 4>& w = weights[c];
+    for (int j = 0; j < 4; ++j) {
+      if (v[j] < 0) continue;
+      hessian.add_vertex_block(v[j], (w[j] * w[j]) * blocks[c]);
+      for (int k = j + 1; k < 4; ++k) {
+        if (v[k] < 0) continue;
+        if (!hessian.add_block_pair(v[j], v[k], (w[j] * w[k]) * blocks[c]))
+          off_pattern.push_back({static_cast<int>(c), j, k});
+      }
     }
   }
+  return !off_pattern.empty();
 }
 
 void ContactBlocks::add_coupling_product(const Eigen::VectorXd& free, const Eigen::VectorXd& p,
                                          Eigen::VectorXd& y) const {
-  for (const int c : coupled) {
-    const std::array<int, 4>& v = vertices[c];
-    const std::array<double, 4>& w = weights[c];
-    // K (sum over the contact's free vertices k of w_k p_k), then each free vertex j takes
-    // w_j times it less its own term.
-    Vec3 sum = Vec3::Zero();
-    for (int k = 0; k < 4; ++k) {
-      if (v[k] >= 0 && free[3 * v[k]] != 0.0) sum += w[k] * p.segment<3>(3 * v[k]);
-    }
-    for (int j = 0; j < 4; ++j) {
-      if (v[j] < 0 || free[3 * v[j]] == 0.0) continue;
-      const Vec3 others = sum - w[j] * p.segment<3>(3 * v[j]);
-      y.segment<3>(3 * v[j]) += w[j] * (blocks[c] * others);
-    }
+  for (const std::array<int, 3>& entry : off_pattern) {
+    const int c = entry[0];
+    const int a = vertices[c][entry[1]], b = vertices[c][entry[2]];
+    if (free[3 * a] == 0.0 || free[3 * b] == 0.0) continue;
+    const double w = weights[c][entry[1]] * weights[c][entry[2]];
+    y.segment<3>(3 * a) += w * (blocks[c] * p.segment<3>(3 * b));
+    y.segment<3>(3 * b) += w * (blocks[c] * p.segment<3>(3 * a));
   }
 }
 

@@ -22,21 +22,22 @@ struct ContactBlocks {
   std::vector<std::array<int, 4>> vertices;
   std::vector<std::array<double, 4>> weights;
   std::vector<Mat3> blocks;
-  std::vector<int> coupled;  // index_coupled(): contacts joining two or more cloth vertices
+  // assemble(): the off-diagonal blocks (contact, j, k), j < k stencil slots, whose vertices
+  // share no element, so the matrix's pattern lacks them (self and cloth-cloth pairs).
+  std::vector<std::array<int, 3>> off_pattern;
 
   void clear() {
     vertices.clear();
     weights.clear();
     blocks.clear();
-    coupled.clear();
+    off_pattern.clear();
   }
   bool empty() const { return blocks.empty(); }
-  // Lists the contacts that join two or more cloth vertices (the only ones with off-diagonal
-  // blocks) and returns whether there are any (then CG needs add_coupling_product).
-  bool index_coupled();
-  // Adds each contact's w_k^2 K at its cloth vertices to the matrix's diagonal blocks.
-  void add_diagonal(SparseHessian& hessian) const;
-  // y += (off-diagonal blocks) p over the vertices where `free` is 1 (3n vectors).
+  // Adds every block w_j w_k K the pattern holds to the matrix (the diagonal ones, and those
+  // between vertices of one element: a cloth edge against a collider's) and lists the rest in
+  // off_pattern; returns whether there are any (then CG needs add_coupling_product).
+  bool assemble(SparseHessian& hessian);
+  // y += (the off_pattern blocks) p over the vertices where `free` is 1 (3n vectors).
   void add_coupling_product(const Eigen::VectorXd& free, const Eigen::VectorXd& p, Eigen::VectorXd& y) const;
 };
 

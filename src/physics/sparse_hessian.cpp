@@ -110,6 +110,21 @@ void SparseHessian::add_vertex_block(int vertex, const Mat3& block) {
   }
 }
 
+bool SparseHessian::add_block_pair(int a, int b, const Mat3& block) {
+  const std::vector<int>& columns = block_columns_[a];
+  if (!std::binary_search(columns.begin(), columns.end(), b)) return false;
+  double* values = matrix_.valuePtr();
+  for (int r = 0; r < 3; ++r) {
+    double* ab = values + block_row_start(a, b, r);
+    double* ba = values + block_row_start(b, a, r);
+    for (int c = 0; c < 3; ++c) {
+      ab[c] += block(r, c);
+      ba[c] += block(c, r);
+    }
+  }
+  return true;
+}
+
 void SparseHessian::set_zero() {
   double* values = matrix_.valuePtr();
   for_each_chunk(static_cast<int>(matrix_.nonZeros()), 64,

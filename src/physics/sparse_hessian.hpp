@@ -47,6 +47,9 @@ class SparseHessian {
   void add_element_isotropic(int stencil, int e, const Eigen::Matrix<double, K, K>& coefficients);
   // Adds `block` to the diagonal block of `vertex`.
   void add_vertex_block(int vertex, const Mat3& block);
+  // Adds `block` to block (a, b) and its transpose to block (b, a) where the pattern holds them
+  // (vertices of a common element); returns false, adding nothing, where it does not.
+  bool add_block_pair(int a, int b, const Mat3& block);
   // Adds scale * diagonal[i] * I3 to the diagonal block of every vertex i.
   void add_diagonal(double scale, const Eigen::VectorXd& diagonal);
   // Makes fixed rows and columns identity.

@@ -47,7 +47,13 @@ void BarrierContact::set_meshes(const std::vector<BarrierMesh>& meshes,
     edges_.middleCols(slot.offsets.edge, slot.topology.num_edges()) =
         slot.topology.edges.array() + slot.offsets.vertex;
   }
+  caches_.assign(num_cloths_, CandidateCache{});
+  for (CandidateCache& cache : caches_) {
+    cache.lower = from_;
+    cache.upper = from_;
+  }
   cloth_ = -1;
+  stencils_ = nullptr;
 }
 
 PrimitiveMesh BarrierContact::primitive_mesh(const Slot& slot) const {
@@ -100,13 +106,11 @@ void BarrierContact::prepare_cloth(int cloth, const std::vector<const Positions*
     to_.middleCols(slot.offsets.vertex, n) = *current[c];
     start_.middleCols(slot.offsets.vertex, n) = *step_start[c];
   }
-  // The other cloths stand still during this solve; colliders always do.
-  for (size_t m = 0; m < slots_.size(); ++m) {
-    Slot& slot = slots_[m];
-    if (static_cast<int>(m) == cloth) continue;
-    if (!slot.mesh.is_cloth && slot.built) continue;
-    update_hierarchies(slot, from_, from_);
+  // Colliders are static: their hierarchies are built once. The cloths' are built by search().
+  for (Slot& slot : slots_) {
+    if (!slot.mesh.is_cloth && !slot.built) update_hierarchies(slot, from_, from_);
   }
+  stencils_ = &caches_[cloth].stencils;
 }
 
 int BarrierContact::local(int combined) const {
@@ -152,10 +156,35 @@ double BarrierContact::pair_friction(const Stencil& stencil) const {
   return 0.5 * (first.friction + second.friction);
 }
 
+namespace {
+
+// A lower bound on the distance between a pair's two primitives (vertices 0 or 0-1 against 1-3
+// or 2-3): the gap between their bounding boxes along the axis where it is widest.
+double box_gap(const std::array<Vec3, 4>& p, bool edge_edge) {
+  const int split = edge_edge ? 2 : 1;
+  Vec3 a_low = p[0], a_high = p[0], b_low = p[3], b_high = p[3];
+  for (int k = 1; k < split; ++k) {
+    a_low = a_low.cwiseMin(p[k]);
+    a_high = a_high.cwiseMax(p[k]);
+  }
+  for (int k = split; k < 3; ++k) {
+    b_low = b_low.cwiseMin(p[k]);
+    b_high = b_high.cwiseMax(p[k]);
+  }
+  return std::max((a_low - b_high).maxCoeff(), (b_low - a_high).maxCoeff());
+}
+
+}  // namespace
+
 BarrierContact::PairGeometry BarrierContact::geometry(const Stencil& stencil, const Positions& x) const {
   const Vec3 p0 = position(stencil.vertices[0], x), p1 = position(stencil.vertices[1], x);
   const Vec3 p2 = position(stencil.vertices[2], x), p3 = position(stencil.vertices[3], x);
   PairGeometry g;
+  // Pairs farther apart than the contact radius add nothing: their distance is not needed.
+  if (box_gap({p0, p1, p2, p3}, stencil.edge_edge) >= pair_radius(stencil)) {
+    g.distance = std::numeric_limits<double>::infinity();
+    return g;
+  }
   Vec3 offset;
   if (stencil.edge_edge) {
     const EdgeEdgeClosest closest = edge_edge_closest(p0, p1, p2, p3);
@@ -181,9 +210,8 @@ namespace {
 // (earliest_proximity, collision/coplanarity_cubic.hpp): stopping once the advances are
 // negligible, and at the end without evaluating there, makes this one cheaper.
 template <class Distance>
-double advance_conservatively(const Distance& distance, double lp, double min_separation) {
+double advance_conservatively(const Distance& distance, double d0, double lp, double min_separation) {
   if (!(lp > 0.0)) return 1.0;
-  const double d0 = distance(0.0);
   const double target = min_separation * d0;
   double t = 0.0, d = d0;
   for (int iteration = 0; iteration < 64; ++iteration) {
@@ -199,8 +227,9 @@ double advance_conservatively(const Distance& distance, double lp, double min_se
 }  // namespace
 
 // A pair along the segment from_ -> to_: its distance falls at most at the rate of its vertices'
-// largest relative displacement (after Li et al. 2021, additive CCD).
-double BarrierContact::advance(const Stencil& stencil) const {
+// largest relative displacement l_p (after Li et al. 2021, additive CCD), so it stays out of
+// the contact radius along the segment where its start's distance less l_p is outside.
+BarrierContact::PairAdvance BarrierContact::advance(const Stencil& stencil) const {
   std::array<Vec3, 4> p, q;
   Vec3 mean = Vec3::Zero();
   for (int k = 0; k < 4; ++k) {
@@ -212,12 +241,19 @@ double BarrierContact::advance(const Stencil& stencil) const {
   const double lp = stencil.edge_edge
                         ? std::max(q[0].norm(), q[1].norm()) + std::max(q[2].norm(), q[3].norm())
                         : q[0].norm() + std::max({q[1].norm(), q[2].norm(), q[3].norm()});
+  // The box gap bounds the start's distance from below: a pair that cannot come within the
+  // radius, or cannot close its share 1 - min_separation of the gap, needs no distance.
+  const double radius = pair_radius(stencil);
+  const double gap = box_gap(p, stencil.edge_edge);
+  if (gap - lp >= radius) return {1.0, false};
+  if ((1.0 - settings.min_separation) * gap >= lp) return {1.0, true};
   const auto distance = [&](double t) {
     const Vec3 a = p[0] + t * q[0], b = p[1] + t * q[1], c = p[2] + t * q[2], d = p[3] + t * q[3];
     return stencil.edge_edge ? edge_edge_closest(a, b, c, d).distance
                              : point_triangle_closest(a, b, c, d).distance;
   };
-  return advance_conservatively(distance, lp, settings.min_separation);
+  const double d0 = distance(0.0);
+  return {advance_conservatively(distance, d0, lp, settings.min_separation), d0 - lp < radius};
 }
 
 // A vertex against a collider's signed distance, which changes at most as fast as the vertex moves.
@@ -228,19 +264,43 @@ double BarrierContact::advance(const SolidPair& pair, const Positions& x, const 
     Vec3 normal;
     return signed_distance(collider, p + t * q, normal);
   };
-  return advance_conservatively(distance, q.norm(), settings.min_separation);
+  return advance_conservatively(distance, distance(0.0), q.norm(), settings.min_separation);
 }
 
-double BarrierContact::max_step(const Positions& x, const Positions& dx) {
-  Slot& slot = slots_[cloth_];
-  const int n = static_cast<int>(x.cols());
-  from_.middleCols(slot.offsets.vertex, n) = x;
-  to_.middleCols(slot.offsets.vertex, n) = x + dx;
-  update_hierarchies(slot, from_, to_);
-  lower_.noalias() = from_.cwiseMin(to_);
-  upper_.noalias() = from_.cwiseMax(to_);
+bool BarrierContact::covered() const {
+  const CandidateCache& cache = caches_[cloth_];
+  if (!cache.valid) return false;
+  // The other cloths hold still in this solve (from_ == to_ there).
+  for (int c = 0; c < num_cloths_; ++c) {
+    const MeshIndexOffsets& offsets = slots_[c].offsets;
+    const int n = static_cast<int>(slots_[c].mesh.positions.cols());
+    const auto lower = cache.lower.middleCols(offsets.vertex, n);
+    const auto upper = cache.upper.middleCols(offsets.vertex, n);
+    const auto from = from_.middleCols(offsets.vertex, n);
+    const auto to = to_.middleCols(offsets.vertex, n);
+    if ((from.array() < lower.array()).any() || (from.array() > upper.array()).any() ||
+        (to.array() < lower.array()).any() || (to.array() > upper.array()).any())
+      return false;
+  }
+  return true;
+}
+
+void BarrierContact::search() {
+  CandidateCache& cache = caches_[cloth_];
   const double radius = contact_radius();
-  const SweptVertexBoxes boxes{lower_, upper_, radius};
+  const double margin = settings.reuse_margin_ratio * radius;
+  for (int c = 0; c < num_cloths_; ++c) {
+    const MeshIndexOffsets& offsets = slots_[c].offsets;
+    const int n = static_cast<int>(slots_[c].mesh.positions.cols());
+    cache.lower.middleCols(offsets.vertex, n) =
+        (from_.middleCols(offsets.vertex, n).cwiseMin(to_.middleCols(offsets.vertex, n))).array() - margin;
+    cache.upper.middleCols(offsets.vertex, n) =
+        (from_.middleCols(offsets.vertex, n).cwiseMax(to_.middleCols(offsets.vertex, n))).array() + margin;
+  }
+  // Every cloth's hierarchies over these boxes (a hierarchy boxes each entry over both arguments).
+  for (int c = 0; c < num_cloths_; ++c) update_hierarchies(slots_[c], cache.lower, cache.upper);
+  const SweptVertexBoxes boxes{cache.lower, cache.upper, radius};
+  Slot& slot = slots_[cloth_];
   candidates_.clear();
   if (slot.mesh.self_collision)
     append_self_primitive_candidates(primitive_mesh(slot), boxes, buffers_, candidates_);
@@ -250,17 +310,27 @@ double BarrierContact::max_step(const Positions& x, const Positions& dx) {
                                         candidates_);
   }
   sort_candidates(candidates_);
-  stencils_.clear();
+  cache.stencils.clear();
   for (const VertexFacePair& pair : candidates_.vertex_face) {
     const Stencil s = stencil(pair);
-    if (has_free_vertex(s)) stencils_.push_back(s);
+    if (has_free_vertex(s)) cache.stencils.push_back(s);
   }
   for (const EdgeEdgePair& pair : candidates_.edge_edge) {
     const Stencil s = stencil(pair);
-    if (has_free_vertex(s)) stencils_.push_back(s);
+    if (has_free_vertex(s)) cache.stencils.push_back(s);
   }
+  cache.valid = true;
   report_.vertex_face_candidates = static_cast<int>(candidates_.vertex_face.size());
   report_.edge_edge_candidates = static_cast<int>(candidates_.edge_edge.size());
+}
+
+double BarrierContact::max_step(const Positions& x, const Positions& dx) {
+  const int n = static_cast<int>(x.cols());
+  const int offset = slots_[cloth_].offsets.vertex;
+  from_.middleCols(offset, n) = x;
+  to_.middleCols(offset, n) = x + dx;
+  if (!covered()) search();
+  const double radius = contact_radius();
   // Vertices that can come within the radius of an analytic collider along the segment.
   solid_pairs_.clear();
   for (int k = 0; k < static_cast<int>(analytic_.size()); ++k) {
@@ -272,9 +342,19 @@ double BarrierContact::max_step(const Positions& x, const Positions& dx) {
     }
   }
   double alpha = 1.0;
-  const int count = static_cast<int>(stencils_.size());
+  const std::vector<Stencil>& stencils = *stencils_;
+  const int count = static_cast<int>(stencils.size());
+  near_.resize(stencils.size());
 #pragma omp parallel for schedule(static) reduction(min : alpha) if (count > 256)
-  for (int i = 0; i < count; ++i) alpha = std::min(alpha, advance(stencils_[i]));
+  for (int i = 0; i < count; ++i) {
+    const PairAdvance a = advance(stencils[i]);
+    alpha = std::min(alpha, a.alpha);
+    near_[i] = a.near ? 1 : 0;
+  }
+  active_.clear();
+  for (int i = 0; i < count; ++i) {
+    if (near_[i]) active_.push_back(stencils[i]);
+  }
   const int solids = static_cast<int>(solid_pairs_.size());
 #pragma omp parallel for schedule(static) reduction(min : alpha) if (solids > 256)
   for (int i = 0; i < solids; ++i) alpha = std::min(alpha, advance(solid_pairs_[i], x, dx));
@@ -289,7 +369,7 @@ double BarrierContact::begin_step(const Positions& x_start, const Positions& pre
   // start): those in contact there keep their normal force, normal and weights for the step.
   const double alpha = max_step(x_start, predictor);
   friction_.clear();
-  for (const Stencil& s : stencils_) {
+  for (const Stencil& s : active_) {
     const PairGeometry g = geometry(s, x_start);
     const double radius = pair_radius(s);
     const double mu = pair_friction(s);
@@ -331,14 +411,15 @@ double BarrierContact::begin_step(const Positions& x_start, const Positions& pre
 
 double BarrierContact::evaluate(const Positions& x, Positions* gradient, ContactBlocks* blocks) {
   if (blocks != nullptr) blocks->clear();
-  const int count = static_cast<int>(stencils_.size());
-  geometry_.resize(stencils_.size());
+  const std::vector<Stencil>& stencils = active_;
+  const int count = static_cast<int>(stencils.size());
+  geometry_.resize(stencils.size());
 #pragma omp parallel for schedule(static) if (count > 256)
-  for (int i = 0; i < count; ++i) geometry_[i] = geometry(stencils_[i], x);
+  for (int i = 0; i < count; ++i) geometry_[i] = geometry(stencils[i], x);
   double barrier = 0.0;
   int pairs = 0;
   for (int i = 0; i < count; ++i) {
-    const Stencil& s = stencils_[i];
+    const Stencil& s = stencils[i];
     const PairGeometry& g = geometry_[i];
     const double radius = pair_radius(s);
     if (!(g.distance < radius)) continue;

@@ -11,9 +11,11 @@
 // held where they are during a cloth's solve (cloths solve one after the other); colliders must
 // be static (the scene loader refuses moving ones with this response).
 //
-// The pairs come from the collision hierarchies (collision/primitive_queries.hpp) over the boxes
-// each vertex sweeps along the Newton direction, inflated by the contact radius: every pair that
-// can come within it anywhere along the segment, and none that cannot.
+// The pairs come from the collision hierarchies (collision/primitive_queries.hpp) over boxes
+// that hold each cloth vertex's segment along the Newton direction widened by a reuse margin:
+// every pair that can come within the contact radius while every vertex stays in its box. The
+// list is kept across Newton iterations and steps, and searched again only when a segment
+// leaves its vertex's box.
 #include <vector>
 
 #include "collision/bvh.hpp"
@@ -37,6 +39,9 @@ struct BarrierSettings {
   bool analytic_colliders = false;
   double min_separation = 0.1;  // a step along a Newton direction keeps each pair at least this
                                 // share of its distance at the step's start
+  // The candidate boxes' widening around each cloth vertex's segment, over the contact radius:
+  // wider boxes list more pairs to evaluate but are left less often.
+  double reuse_margin_ratio = 0.5;
 };
 
 // One mesh as the barrier sees it: a cloth or a static collider surface.
@@ -99,6 +104,13 @@ class BarrierContact : public SolveContact {
     int vertex;    // local in the solving cloth
     int collider;  // index into analytic_
   };
+  // The pairs one search found for a cloth, and the vertex boxes (combined) it covered: they
+  // stay the cloth's pairs while every cloth vertex stays in its box (colliders are static).
+  struct CandidateCache {
+    std::vector<Stencil> stencils;  // with a free vertex of the cloth
+    Positions lower, upper;
+    bool valid = false;
+  };
   struct FrictionPair {
     std::array<int, 4> vertices;  // local cloth vertex, or -1
     std::array<double, 4> weights;
@@ -116,7 +128,13 @@ class BarrierContact : public SolveContact {
   double pair_radius(const Stencil& stencil) const;
   double pair_friction(const Stencil& stencil) const;
   bool has_free_vertex(const Stencil& stencil) const;
-  double advance(const Stencil& stencil) const;
+  bool covered() const;  // the solving cloth's cache holds the segment from_ -> to_
+  void search();         // fills the solving cloth's cache around the segment from_ -> to_
+  struct PairAdvance {
+    double alpha;  // the segment's share the pair allows
+    bool near;     // may come within the contact radius along the segment
+  };
+  PairAdvance advance(const Stencil& stencil) const;
   double advance(const SolidPair& pair, const Positions& x, const Positions& dx) const;
   double contact_radius() const;  // the largest pair radius
   int local(int combined) const;  // local index in the solving cloth, or -1
@@ -135,10 +153,12 @@ class BarrierContact : public SolveContact {
   std::vector<int> vertex_mesh_;  // combined vertex -> mesh
   Eigen::Matrix2Xi edges_;        // combined edges (2 x n_edges)
   Positions from_, to_, start_;   // combined positions: segment ends, step start (3 x n_vertices)
-  Positions lower_, upper_;       // swept vertex boxes
   BvhQueryBuffers buffers_;
   CollisionCandidates candidates_;
-  std::vector<Stencil> stencils_;       // candidates_ with a free vertex of the solving cloth
+  std::vector<CandidateCache> caches_;  // per cloth
+  const std::vector<Stencil>* stencils_ = nullptr;  // the solving cloth's cache's
+  std::vector<char> near_;                          // max_step's scratch, per stencil
+  std::vector<Stencil> active_;  // the stencils that may come within the radius on the last segment
   std::vector<PairGeometry> geometry_;  // scratch of evaluate()
   std::vector<FrictionPair> friction_;
   Positions x_step_start_;  // the solving cloth's positions at the step's start
