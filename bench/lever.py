@@ -6,7 +6,7 @@
         [--frames N] [--threads 1] [--weft build/release/src/weft]
 
 A cloth that folds is chaotic: moving the drape's start by 1 micrometre changes its Newton
-iterations over 30 frames by up to 4% (2,304 to 2,478 on 2026-11-28), so one run of a lever
+iterations over 30 frames by a few percent, so one run of a lever
 against one run of the scene cannot resolve a change that size. This runs the scene as it is
 (the baseline) and each candidate (one or more overrides, `;`-separated, as `weft --set` takes
 them) from --starts starts: the scene's own and starts with cloth 0 moved by 1, 2, ...

@@ -1,9 +1,10 @@
 // The simulation half of "the 32x32 drape plays in real time in the viewer while a stiffness
-// slider is dragged" (issue 27): the drape's fast tier stepped frame by frame as the viewer steps
-// it, with the material panel's edit (ui/material_edit.hpp: read_material, apply_material on
-// World::cloths()) applied before every frame, as a slider dragged through its range does.
-// Prints wall seconds per simulated second of the frames (edits included; no rendering) for an
-// undisturbed run and for each slider, one line each. Timings only: nothing here is pass/fail.
+// slider is dragged" (docs/performance.md, "Targets"): the drape's fast tier stepped frame by
+// frame as the viewer steps it, with the material panel's edit (ui/material_edit.hpp:
+// read_material, apply_material on World::cloths()) applied before every frame, as a slider
+// dragged through its range does. Prints wall seconds per simulated second of the frames (edits
+// included; no rendering) for an undisturbed run and for each slider, one line each. Timings only:
+// nothing here is pass/fail.
 //   cmake --build build/release --target weft_slider_drag
 //   build/release/bench/weft_slider_drag [--threads T] [--resolution N] [--set path=value ...]
 #include <chrono>

@@ -1,6 +1,6 @@
 // The quality gates a fast tier must pass against the reference tier, printed for a candidate
 // given as overrides of the drape scene as shipped (the gates: tests/support/tier_gates.hpp;
-// docs/performance.md, "A 1% strain limit on the drape"). One line per gate; exit 0 when
+// docs/performance.md, "The fast tier"). One line per gate; exit 0 when
 // all pass, 1 otherwise. The shipped settings are a ctest (tests/sim/test_tier_gates.cpp).
 //   cmake --build build/release --target weft_tier_gates
 //   build/release/bench/weft_tier_gates                      (the shipped drape settings)

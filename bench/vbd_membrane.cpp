@@ -1,6 +1,6 @@
 // Vertex Block Descent (Chen et al. 2024) against Newton + CG on one implicit Euler step of the
-// drape's cloth, without contact: how many sweeps VBD needs on Weft's stiff membrane (issue 27
-// names this as its known weakness) and what a sweep costs. The state is the 64x64 drape after
+// drape's cloth, without contact: how many sweeps VBD needs on Weft's stiff membrane (stiff
+// elasticity is VBD's known weakness) and what a sweep costs. The state is the 64x64 drape after
 // `--frames` frames of the full pipeline (folded on the sphere); from it one step of h = 1/240 s
 // is solved for the cloth alone (no collider, no contact), by
 //   newton   ImplicitEulerSolver capped at k = 1, 2, ... iterations (the shipped CG path),

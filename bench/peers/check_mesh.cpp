@@ -16,10 +16,10 @@
 
 namespace {
 
-// The drape scene's sphere (scenes/drape_sphere.json, /work/shared/peers/README.md).
+// The drape scene's sphere (scenes/drape_sphere.json, bench/peers/README.md).
 const weft::Vec3 sphere_center(0.0, 0.0, 0.0);
 constexpr double sphere_radius = 0.5;
-// Depth past which a vertex counts as through the sphere: the peers README's 1 cm.
+// Depth past which a vertex counts as through the sphere: bench/peers/README.md's 1 cm.
 constexpr double deep_inside = 0.01;
 
 struct MeshFigures {

@@ -171,8 +171,9 @@ struct BvhQueryBuffers {
 // default) drops every neighbour pair, but it also drops the vertex-face and edge-edge pairs
 // within two rings of each other that only neighbouring triangles carry, e.g. the far vertex of
 // a hinge folding flat onto the other triangle, or a hem folding through the row next to it.
-// `keep` reports them (about 6 more pairs per triangle on a grid); add_self_candidates() then
-// skips only primitives that share a vertex. The collision phase keeps them.
+// `keep` reports them (about 6 more pairs per triangle on a grid) for a caller that filters the
+// primitives of each pair itself. The collision phase does not use these triangle-pair queries:
+// it queries primitive pairs directly (primitive_queries.hpp).
 enum class SharedVertexPairs { skip, keep };
 
 // Pairs of triangles of one mesh whose boxes overlap; each pair once with a < b, sorted.

@@ -4,11 +4,10 @@
 // - dihedral (hinge_bending.hpp): stiffness * weight * (theta - rest_angle)^2, any rest shape;
 // - quadratic (quadratic_bending.hpp): stiffness * scale * |sum_i w_i x_i|^2, flat rest shapes
 //   only; a constant, exact, PSD Hessian and no 1/height singularity as a wing collapses.
-// Dihedral is the default: on the 64x64 drape the quadratic model, whose restoring moment
-// 2 k w sin(theta) fades past 90 degrees, let creases fold shut (7 hinges past 170 degrees at the
-// end against none) and the collision response then stretched triangles (largest strain 1.17
-// against 0.78, docs/performance.md). Scenes whose solves stall on collapsing wings ask for
-// quadratic (the twists and the tumble dryer).
+// Dihedral is the default: the quadratic model's restoring moment 2 k w sin(theta) fades past 90
+// degrees, so creases fold shut more readily and the collision response then stretches triangles
+// (docs/scenes.md, "bending"). Scenes whose solves stall on collapsing wings ask for quadratic
+// (the twists and the tumble dryer).
 #include <vector>
 
 #include "core/math.hpp"
@@ -51,10 +50,9 @@ double bending_element_energy(const BendingTerm& term, int h, const Positions& x
 // Bending energy of all hinges; adds the gradient and the Hessian (stencil `stencil` over
 // term.hinges) to the outputs that are not null. The quadratic model's Hessian is exact and PSD
 // whether or not `project` is set. For the dihedral model, `project` makes each hinge's Hessian PSD
-// by its Gauss-Newton part rather than by an eigen-decomposition: on a 64x64 membrane cloth the 12x12
-// eigen-projection took 45% of an implicit step (perf), the Gauss-Newton form costs a rank-one
-// update, and Newton still converges in the same number of iterations (measured,
-// docs/performance.md). That rank-one matrix is added block by block
+// by its Gauss-Newton part rather than by an eigen-decomposition: a 12x12 eigen-projection per
+// hinge is a large share of an implicit step, the Gauss-Newton form costs a rank-one update, and
+// Newton converges in as many iterations. That rank-one matrix is added block by block
 // (SparseHessian::add_element_outer), never formed. Since theta is invariant under rigid motion,
 // a . u = 0 for every rigid velocity u, so the Gauss-Newton matrix leaves rigid motion free. No PSD
 // matrix that leaves the wing tips uncoupled can do so and still resist bending (a rotation about
@@ -67,8 +65,9 @@ double evaluate_bending(const BendingTerm& term, const Positions& x, Positions* 
 // free vertices (inverse_mass > 0), of the trace of the hinges' Gauss-Newton blocks on a vertex's
 // diagonal in the rest shape, sum over its hinges of curvature |grad_v theta|^2, over its mass.
 // Times h^2 it is the share those blocks add to implicit Euler's m/h^2 on that vertex
-// (ImplicitEulerSettings::bending_hessian_share): 0.49 on the 64x64 drape at h = 1/240 s, growing
-// as h^2 / edge^4. Infinite for the quadratic model (its exact Hessian is always kept).
+// (ImplicitEulerSettings::bending_hessian_share; docs/integrators.md, "Which linear solver inside
+// implicit Euler"). It grows as h^2 / edge^4. Infinite for the quadratic model (its exact Hessian
+// is always kept).
 double bending_stiffness_rate(const BendingTerm& term, const Positions& rest_positions,
                               const Eigen::VectorXd& inverse_mass);
 

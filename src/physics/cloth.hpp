@@ -20,7 +20,7 @@ struct ClothModel {
   Eigen::VectorXd mass;            // lumped vertex masses, kg (n_vertices)
   Eigen::VectorXd inverse_mass;    // 0 for pinned vertices (n_vertices)
   // Force terms; each is off (and costs nothing) unless the scene turned it on.
-  SpringSet springs;               // the seed's structural, shear and bend springs
+  SpringSet springs;               // mass-spring structural, shear and bend springs (Provot 1995)
   MembraneTerm membrane;           // StVK triangle membrane with buckling and plastic yield
   BendingTerm bending;             // hinge bending, dihedral or quadratic
   AirDragTerm air_drag;            // air drag and wind

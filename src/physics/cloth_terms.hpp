@@ -27,8 +27,8 @@ struct HessianStencils {
 
 // Builds the Hessian's sparsity pattern for the cloth's enabled terms and its fixed vertices.
 // Every element couples all its vertices, the hinges' wing tips included: leaving those blocks
-// out and lumping them onto the tips' diagonal blocks (as Weft did until 2026-11-25) halves a
-// CG product but stiffens rigid motion of the tips, so small or fine cloths froze in the air.
+// out and lumping them onto the tips' diagonal blocks would halve a CG product but stiffens
+// rigid motion of the tips, so that small or fine cloths freeze in the air.
 // Without `hinges_in_matrix` the hinges have no stencil (stencils.hinges = -1): their energy and
 // gradient are still evaluated, their Hessian is left out of the matrix as a whole
 // (ImplicitEulerSettings::bending_hessian_share says when).

@@ -2,7 +2,7 @@
 // Contact penalty: the contacts the collision phase found at the start of a step, as a one-sided
 // quadratic energy inside implicit Euler's incremental potential, so that Newton's solution
 // already keeps layers apart instead of pushing them together for the collision response to
-// undo (which, in a tight twist, stretched triangles many times over). Each contact is four
+// undo (which, in a tight twist, stretches triangles many times over). Each contact is four
 // weighted vertices with a normal frozen at the start of the step (the proximity stencil of
 // collision/contact_impulse.hpp):
 //   g(x) = n . sum_k w_k x_k + offset,   E = 1/2 kappa (delta - g)^2 if g < delta, else 0,

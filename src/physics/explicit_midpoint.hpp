@@ -4,7 +4,7 @@
 //   x' = x + h v_m,   v' = v + h M^-1 f(x_m, v_m)
 // Local error O(h^3), global error O(h^2). Not symplectic: on an undamped oscillation of
 // frequency w each step multiplies the amplitude by sqrt(1 + (wh)^4 / 4), so it has no stable
-// step without damping; the seed paper's second-order scheme is midpoint_euler_cromer.hpp. Kept
+// step without damping; Volino et al. 1995's second-order scheme is midpoint_euler_cromer.hpp. Kept
 // as the adaptive stepper's second-order partner (adaptive_stepping.hpp) and for comparison.
 #include "physics/cloth.hpp"
 

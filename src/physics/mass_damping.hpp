@@ -1,7 +1,7 @@
 #pragma once
 // Mass-proportional (Rayleigh) damping: f_i = -c m_i v_i, a stand-in for still air that damps
-// rigid motion too (the seed's spring damping only damps stretching). c in 1/s; the physics
-// issue's air drag and wind term will model the air properly.
+// rigid motion too (the springs' damping only damps stretching). c in 1/s; the air-drag term
+// (air_drag.hpp) models the air itself.
 #include "core/math.hpp"
 
 namespace weft {

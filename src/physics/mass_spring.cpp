@@ -130,7 +130,7 @@ void add_spring_forces(const SpringSet& springs, const Positions& x, const Posit
     const double length_squared = d.squaredNorm();
     if (length_squared == 0.0) continue;  // direction undefined: no force
     const double length = std::sqrt(length_squared);
-    // Elastic: k (|d| - L) d/|d|; damping: gamma ((vj - vi) . d) d / |d|^2 (the seed's formulas).
+    // Elastic: k (|d| - L) d/|d|; damping: gamma ((vj - vi) . d) d / |d|^2 (mass_spring.hpp).
     const double elastic = springs.stiffness[s] * (length - springs.rest_length[s]) / length;
     const double damping = springs.damping[s] * (v.col(j) - v.col(i)).dot(d) / length_squared;
     const Vec3 f_i = (elastic + damping) * d;

@@ -1,5 +1,5 @@
 #pragma once
-// The seed's mass-spring forces: f = k (|xj - xi| - L) (xj - xi)/|xj - xi| on vertex i, plus
+// Mass-spring forces (Provot 1995): f = k (|xj - xi| - L) (xj - xi)/|xj - xi| on vertex i, plus
 // damping gamma ((vj - vi) . d) d / |d|^2 with d = xj - xi; structural, shear and bend springs.
 #include "core/math.hpp"
 #include "core/mesh_generators.hpp"
@@ -62,7 +62,7 @@ Mat3 spring_hessian_block(const Vec3& d, double rest_length, double stiffness, b
 double evaluate_springs(const SpringSet& springs, const Positions& x, Positions* gradient, SparseHessian* hessian,
                         int stencil, bool project_to_psd);
 
-// The seed's spring damping as a dissipation potential for implicit Euler, with directions
+// The springs' damping as a dissipation potential for implicit Euler, with directions
 // lagged at the step start: D(x) = sum gamma/(2h) ((dx_j - dx_i) . u)^2, dx = x - x_start,
 // u = unit direction at x_start. Its gradient is minus the damping force at v = dx/h.
 double evaluate_spring_damping(const SpringSet& springs, const Positions& x_start, const Positions& x, double h,

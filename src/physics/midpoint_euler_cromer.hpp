@@ -1,6 +1,6 @@
 #pragma once
 // Midpoint Euler-Cromer, the second-order form of semi-implicit Euler that Volino, Courchesne &
-// Magnenat-Thalmann 1995 integrate with (the seed's notes): the velocity is taken at the half step
+// Magnenat-Thalmann 1995 integrate with: the velocity is taken at the half step
 // and the positions advance with it,
 //   v_half = v + h/2 M^-1 f(x, v)
 //   x'     = x + h v_half

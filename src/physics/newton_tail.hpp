@@ -1,9 +1,9 @@
 #pragma once
 // The tail of an implicit Euler step's Newton solve, restricted to where the residual is.
 //
-// In a contact step of the 64x64 drape the last two or three Newton iterations work on under 2%
-// of the vertices: the residual's tail is local (docs/performance.md, "Where a contact step's
-// last iterations go"). A global iteration still assembles and solves the whole cloth. Here the
+// In a contact step the last few Newton iterations have only a small share of the vertices above
+// the tolerance: the residual's tail is local (docs/integrators.md, "Which linear solver inside
+// implicit Euler"). A global iteration still assembles and solves the whole cloth. Here the
 // region is the free vertices whose residual is above the tolerance and their neighbours; each
 // iteration assembles only the elements touching it (their Hessian afresh: one kept from the
 // first iteration stalls or diverges), solves the region's rows of the element-wise projected

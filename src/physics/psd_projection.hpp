@@ -1,6 +1,6 @@
 #pragma once
 // Projection of a symmetric element Hessian onto the positive semi-definite cone, for Newton
-// steps on the incremental potential (DESIGN.md, implicit Euler): H = V max(L, 0) V^T.
+// steps on the incremental potential (physics/implicit_euler.hpp): H = V max(L, 0) V^T.
 #include <Eigen/Core>
 
 namespace weft {

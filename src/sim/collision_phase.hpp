@@ -1,8 +1,8 @@
 #pragma once
-// The collision phase of a World step (DESIGN.md step 3, after Bridson, Fedkiw & Anderson 2002):
-// every cloth, soft body and collider surface is laid out in one combined vertex, triangle and
-// edge index space, and the integrator's candidate motion x_start -> x_end is corrected in place
-// by these phases, each a member function the World calls in order:
+// The collision phase of a World step (docs/architecture.md, step 3; after Bridson, Fedkiw &
+// Anderson 2002): every cloth, soft body and collider surface is laid out in one combined vertex,
+// triangle and edge index space, and the integrator's candidate motion x_start -> x_end is
+// corrected in place by these phases, each a member function the World calls in order:
 //   gather_motion           combined x_start, x_end, velocity and inverse mass
 //   find_candidates         broad phase: BVHs over triangles, vertices and edges refitted with
 //                           swept boxes (rebuilt when loose), then self, cloth-cloth and
@@ -79,8 +79,8 @@ struct CollisionSettings {
   double strain_limit = 0.0;
   int strain_limit_sweeps = 32;
   BvhSettings bvh;
-  // Skip self tests in flat, unfolded regions. Off by default: with it on, `twist` showed 5
-  // intersecting pairs at frame 33 that the run without it does not have (docs/collision.md).
+  // Skip self tests in flat, unfolded regions that cannot touch themselves (docs/collision.md,
+  // "Self-collision culling"). Off by default; scenes turn it on where it pays.
   SelfCullingSettings self_culling = {false};
 };
 
@@ -156,7 +156,8 @@ class CollisionPhase {
   // Compares the corrected end positions with the integrator's (still in `cloths`): the largest
   // distance and the vertices moved by more than 1% of their cloth's thickness, into stats().
   // Where the solve does not see a contact the phase undoes part of its motion every step, and
-  // the next solve starts that far from its answer (docs/performance.md).
+  // the next solve starts that far from its answer (docs/collision.md, "Collider contacts inside
+  // implicit Euler").
   void measure_corrections(const std::vector<Cloth>& cloths);
   void scatter_motion(std::vector<Cloth>& cloths) const;
 

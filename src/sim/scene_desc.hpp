@@ -16,7 +16,7 @@
 
 namespace weft {
 
-// Stiffness (N/m) and damping (N s/m) of one kind of spring, per spring, as in the seed formula.
+// Stiffness (N/m) and damping (N s/m) of one kind of spring, per spring, as in mass_spring.hpp.
 struct SpringParams {
   double stiffness = 0.0;
   double damping = 0.0;

@@ -2,13 +2,12 @@
 // Picks how many of the requested solver threads a step runs on, by measuring.
 //
 // On a node shared with another process, a thread that shares its core runs at about half speed
-// and every barrier of the step waits for it: two threads were slower than one on the 64x64
-// drape with a busy loop holding one of two cores (docs/performance.md, "Threads on a shared
-// node"). The governor runs the requested count and, now and then, a short probe of steps on
-// the other count (one thread when running many, many when running one); it keeps whichever
-// ran the steps faster. Results never depend on the thread count (core/parallel_chunks.hpp:
-// sums are added in chunk order), so switching changes how fast a run goes, never what it
-// computes.
+// and every barrier of the step waits for it, so two threads can be slower than one
+// (docs/performance.md, "Threads"). The governor runs the requested count and, now and then, a
+// short probe of steps on the other count (one thread when running many, many when running one);
+// it keeps whichever ran the steps faster. Results never depend on the thread count
+// (core/parallel_chunks.hpp: sums are added in chunk order), so switching changes how fast a run
+// goes, never what it computes.
 //
 // Probe: `probe_blocks` blocks of four steps, other - current - current - other. A block's
 // ratio is the other count's two step times over the current count's two; a step cost that

@@ -58,7 +58,8 @@ Positions World::collider_positions(int collider) const {
   return positions;
 }
 
-// One time step, as the pipeline in DESIGN.md: colliders, integrator, collisions, stats.
+// One time step, as the pipeline in docs/architecture.md: colliders, integrator, collisions,
+// rest state, stats.
 void World::step() {
   const auto step_start = Clock::now();
   StepStats stats;
@@ -317,7 +318,8 @@ void World::integrate_cloth(int index, double h, int substep, StepStats& stats) 
   }
 }
 
-// Plastic flow: membrane rest shapes follow strains past the yield limit (DESIGN.md step 4).
+// Plastic flow: membrane rest shapes follow strains past the yield limit (docs/architecture.md,
+// step 4).
 // The elastic energy the flow releases is the plastic term of the energy budget.
 int World::update_rest_state(EnergyFlows& flows) {
   int yielded = 0;
@@ -333,7 +335,7 @@ int World::update_rest_state(EnergyFlows& flows) {
   return yielded;
 }
 
-// Collision response on the candidate motion (DESIGN.md step 3; collision_phase.hpp).
+// Collision response on the candidate motion (docs/architecture.md, step 3; collision_phase.hpp).
 void World::resolve_collisions(double h, StepStats& stats) {
   if (!settings.collision.enabled || cloths_.empty()) return;
   CollisionPhase& phase = collisions_;
@@ -457,7 +459,7 @@ double steps_per_frame(double fps, double max_time_step) {
 }
 
 FrameSchedule frame_schedule(double fps, double max_time_step) {
-  // Checked before the cast: a tiny step (1e-12 s) once overflowed the int and ran at h = 1/fps.
+  // Checked before the cast: a tiny step (1e-12 s) would overflow the int and run at h = 1/fps.
   const double steps = steps_per_frame(fps, max_time_step);
   if (!(steps <= max_steps_per_frame)) {
     throw std::out_of_range("frame_schedule: a frame of 1/" + std::to_string(fps) +

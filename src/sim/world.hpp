@@ -1,6 +1,7 @@
 #pragma once
 // The World owns the cloths and colliders and advances them through the step pipeline
-// (DESIGN.md, "One time step"). There is no global world: the caller owns each one.
+// (docs/architecture.md, "One step: `World::step()`"). There is no global world: the caller owns
+// each one.
 #include <array>
 #include <memory>
 #include <vector>

@@ -88,7 +88,7 @@ TEST(BadInput, NumericOptionsSayTheirRange) {
 TEST(BadInput, StepCountsARunCannotFinishAreRefused) {
   TempDir dir("weft_steps");
   const fs::path out = dir.path() / "out";
-  // 1e-12 s steps once overflowed the int step count and ran silently at h = 1/30 s.
+  // 1e-12 s steps would overflow the int step count and run silently at h = 1/30 s.
   ProgramResult result =
       weft(dir, {"--headless", drape_scene, "--out", out.string(), "--set", "solver.time_step=1e-12"});
   EXPECT_EQ(result.exit_code, 2);

@@ -119,7 +119,7 @@ TEST(CheckpointResume, TheUnconvergedCountCoversTheWholeRun) {
   EXPECT_NE(resumed.error_text.find("solver.newton.max_iterations (now 2)"), std::string::npos) << resumed.error_text;
 }
 
-// A checkpoint written before a scene key existed (here `bending.model`, added 2026-11-26) resumes:
+// A checkpoint written before a scene key existed (here `bending.model`) resumes:
 // the missing key compares at its default, which is what the run used.
 TEST(CheckpointResume, ACheckpointFromBeforeANewSceneKeyResumes) {
   TempDir dir("weft_resume_older");

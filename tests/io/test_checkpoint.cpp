@@ -140,7 +140,7 @@ World sheet_over_ball(const std::string& collision, double height) {
 }
 
 // The energy flows since frame 0 travel with the checkpoint, so a resumed run's budget carries
-// them. A version 4 file (five flows, before the residual flow of 2026-11-29) reads with a
+// them. A version 4 file (five flows, without the residual flow of version 5) reads with a
 // residual of zero: rebuilt here from this version's bytes without the last flow.
 TEST(Checkpoint, EnergyFlowsRoundTripAndAVersionFourFileReadsWithoutTheResidualFlow) {
   TempDir dir("weft_checkpoint_flows");

@@ -140,9 +140,9 @@ TEST(PointCache, BadFilesAreNamedWithWhatIsWrong) {
             std::string::npos);
 }
 
-// Found by tests/fuzz/fuzz_point_cache: a 39-byte file whose header counted 2^31 - 1 samples
-// made the reader allocate them (out of memory) before it found the file short. The counts are
-// now checked against the file's size first, by division, as 12 * points * samples overflows.
+// Found by tests/fuzz/fuzz_point_cache: a 39-byte file whose header counts 2^31 - 1 samples must
+// not make the reader allocate them (out of memory) before it finds the file short. The counts
+// are checked against the file's size first, by division, as 12 * points * samples overflows.
 TEST(PointCache, CountsBeyondTheFileAreRefusedBeforeAnythingIsAllocated) {
   TempDir dir("weft_pc2_counts");
   const auto header_only = [&](const std::string& name, int32_t points, int32_t samples) {

@@ -101,8 +101,8 @@ TEST(SceneFile, OutOfRangeValuesAreRejected) {
 
 TEST(SceneFile, ANewtonToleranceThatTheRestingStartMeetsIsRefused) {
   // At h = 1/240 gravity adds 9.81 / 240 = 0.0409 m/s a step, the residual of Newton's start;
-  // a tolerance at or above it froze the drape (0 Newton iterations, every step "converged"; since
-  // 2026-11-28 every step takes one iteration, and such a tolerance would stop after it).
+  // a tolerance at or above it would freeze the drape (every step "converged" at the start; with
+  // the one iteration every step takes, such a tolerance stops after it).
   const std::vector<std::string> implicit = {"solver.integrator=\"implicit_euler\"",
                                              "solver.time_step=0.004166666666666667"};
   auto with = [&](const std::string& more) {
@@ -203,8 +203,8 @@ TEST(SceneFile, BadOverridesAreReported) {
   EXPECT_THROW(apply_override(document, "no_equals_sign", "scene.json"), SceneError);
 }
 
-// Found by tests/fuzz/fuzz_set: an index past std::stoul's range threw std::out_of_range, and a
-// bare value that is not UTF-8 threw nlohmann's type_error when it was written into a message.
+// Found by tests/fuzz/fuzz_set: an index past std::stoul's range (std::out_of_range) and a bare
+// value that is not UTF-8 (nlohmann's type_error when written into a message) are SceneErrors.
 TEST(SceneFile, OverridesWithHugeIndicesOrNonUtf8ValuesAreSceneErrors) {
   expect_scene_error(minimal_scene, {"cloths.99999999999999999999.name=x"}, "/cloths/99999999999999999999",
                      "expected an index below 1");

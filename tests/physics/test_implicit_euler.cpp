@@ -179,10 +179,10 @@ TEST(ImplicitEuler, ConjugateGradientSolvesFreeFallFromTheGravityGuess) {
 
 TEST(ImplicitEuler, AFallingClothKeepsAcceleratingWithAToleranceJustBelowGravitysPull) {
   // The drape's tolerance (1e-2 m/s) and mass damping (0.1 /s) at h = 1/960 s: gravity's pull over
-  // a step is |g| h = 0.0102 m/s, and once the damping takes 0.1 v h off it the inertial
-  // predictor meets the tolerance (from v = 2.1 m/s). A step that accepted it dropped gravity's
-  // acceleration: the cloth glided at constant speed with every step "converged". Implicit Euler's
-  // uniform fall is v' = (v + h g) / (1 + c h), which one Newton iteration a step reaches.
+  // a step is |g| h = 0.0102 m/s, and once the damping takes 0.1 v h off it the inertial predictor
+  // meets the tolerance (from v = 2.1 m/s). A step that accepted it would drop gravity's
+  // acceleration: the cloth would glide at constant speed with every step "converged". Implicit
+  // Euler's uniform fall is v' = (v + h g) / (1 + c h), which one Newton iteration a step reaches.
   Cloth cloth = test::spring_grid_cloth(6, 0.5, 0.01, test::spring_params(1e3, 1e2, 1.0, 0.0));
   cloth.model.mass_damping = 0.1;
   const Vec3 gravity(0.0, -9.81, 0.0);
@@ -252,8 +252,8 @@ HangingRun run_hanging(double size, int resolution, double h, double duration, c
 }
 
 // The default conjugate-gradient path against the Cholesky reference on cloths small or fine
-// enough that a Hessian stiffening rigid motion froze them in the air while reporting
-// convergence (a 1 cm 16x16 cloth fell 0.2 mm in 5 s instead of swinging down): the two end
+// enough that a Hessian stiffening rigid motion would freeze them in the air while reporting
+// convergence (a 1 cm 16x16 cloth falling 0.2 mm in 5 s instead of swinging down): the two end
 // within 0.5% of the cloth's size of each other, and no step reported converged has a residual
 // above the tolerance.
 TEST(ImplicitEuler, SmallAndFineClothsMatchTheCholeskyReference) {

@@ -1,8 +1,8 @@
 // Global convergence order of the integrators on a smooth scene without contact or damping: a
 // 6x6 spring cloth, pinned at two corners, falls and swings from rest under gravity. Positions
 // at time T integrated with h, h/2, h/4, h/8 are compared with an explicit midpoint reference at
-// h/256; the least-squares slope of log(error) against log(h) is the observed order. The seed's
-// midpoint Euler-Cromer is also measured on a membrane cloth (StVK, hinge bending).
+// h/256; the least-squares slope of log(error) against log(h) is the observed order. Volino et
+// al. 1995's midpoint Euler-Cromer is also measured on a membrane cloth (StVK, hinge bending).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -146,7 +146,7 @@ TEST(IntegratorConvergence, MidpointEulerCromerIsSecondOrderOnAMembrane) {
   // h0 = T / 125 (membrane forces cost more than springs'); the explicit midpoint reference at
   // h0 / 64. With the kink (compression factor 0.1, the scenes' default) the force is only
   // Lipschitz where triangles cross zero strain, which can cost the order; on this swinging,
-  // mostly stretched cloth it measured 2.00 as well (2026-11-25). Printed, asserted for 1 only.
+  // mostly stretched cloth the observed order is 2 as well. Printed, asserted for 1 only.
   constexpr int coarse = 125;
   for (const double compression_factor : {1.0, 0.1}) {
     const Cloth cloth = membrane_cloth(compression_factor);

@@ -220,9 +220,10 @@ void expect_implicit_settles(Cloth cloth, int steps, const char* name) {
   // Static equilibrium: every free vertex's net force is tiny next to its weight.
   Positions force(3, cloth.num_vertices());
   compute_forces(cloth.model, gravity, cloth.state.x, Positions::Zero(3, cloth.num_vertices()), force);
-  // Newton stops once |dx| / h < tolerance, which leaves a force of order k * tolerance * h on a
-  // vertex: next to the weight of the lightest vertex (1e6 times lighter than the heaviest) that is
-  // not small, so the per-vertex balance is checked at 1e-2 and the whole cloth's at 1e-5.
+  // Newton's residual bounds each vertex's unbalanced force by its own mass (h |g_i| / m_i below
+  // the tolerance), but the steps that stop at the cap or on round-off (above) leave more, and next
+  // to the weight of the lightest vertex (1e6 times lighter than the heaviest) that is not small,
+  // so the per-vertex balance is checked at 1e-2 and the whole cloth's at 1e-5.
   double worst_balance = 0.0, net_force = 0.0;
   for (int i = 0; i < cloth.num_vertices(); ++i) {
     if (cloth.model.inverse_mass[i] == 0.0) continue;

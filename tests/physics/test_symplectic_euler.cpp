@@ -1,5 +1,6 @@
-// Symplectic Euler on the seed's spring: a mass on a spring oscillates with the analytic
-// period 2 pi sqrt(m/k), and free fall matches x0 + v0 t + g t^2/2 to the integrator's order.
+// Symplectic Euler on one spring of the mass-spring model: a mass on it oscillates with the
+// analytic period 2 pi sqrt(m/k), and free fall matches x0 + v0 t + g t^2/2 to the
+// integrator's order.
 #include "physics/symplectic_euler.hpp"
 
 #include <gtest/gtest.h>

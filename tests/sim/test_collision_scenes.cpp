@@ -187,7 +187,7 @@ TEST(CollisionScenes, FastDropStaysClean) {
 
 // The 20 m/s impact at the scene's step (1/240 s) and at twice it, on boxes 1 cm and 2 mm thin:
 // the cloth moves 8 or 17 cm a step, CCD stops what hits the box, and what keeps falling would
-// stretch the edges over the box's rim 6x in one step (the run used to stop there as diverged);
+// stretch the edges over the box's rim 6x in one step (a stretch the run stops at as diverged);
 // the strain limit (1: edges at most 2x) holds it, through the zones where the Gauss-Seidel
 // limiter cannot (impact_zones.hpp).
 TEST(CollisionScenes, FastImpactOnThinBoxesStaysWithinTheStrainLimit) {
@@ -281,10 +281,10 @@ TEST(CollisionScenes, DrapeAtTwiceTheStepWithContactPenaltyKeepsTrianglesNearRes
 }
 
 // With implicit Euler's contact penalty the solver carries the cloth's weight, so the proximity
-// impulse alone would leave friction almost nothing to work with (the cloth slid 13 cm at 15
-// degrees before the penalty's impulse counted towards the Coulomb bound). The bound is an
+// impulse alone would leave friction almost nothing to work with (the cloth would slide 13 cm at
+// 15 degrees), so the penalty's impulse counts towards the Coulomb bound. The bound is an
 // estimate (h kappa times the overlap where the solve left the pair): at 20 and 21 degrees, just
-// under the friction angle of 21.8, the cloth crept 1.4-3.3 cm in 0.5 s for kappa 1e2..1e5, so
+// under the friction angle of 21.8, the cloth creeps 1.4-3.3 cm in 0.5 s for kappa 1e2..1e5, so
 // the law is checked up to 18 degrees.
 TEST(CollisionScenes, FrictionSlopeWithContactPenaltyFollowsTheFrictionLaw) {
   const std::string penalty = "collision.penalty_stiffness=1000";
@@ -303,11 +303,11 @@ TEST(CollisionScenes, FrictionSlopeWithColliderContactsInTheSolveFollowsTheFrict
 }
 
 // The shipped 64x64 drape touches the sphere in frame 10. With the solve blind to the sphere
-// (collider_contact_ratio 0, the scene until 2026-11-28) the collision phase stopped the contact
-// vertices while the rest fell 13 mm a step, the 1% strain limit left edges between them over it,
-// and the impact zones merged through those edges into one rigid zone holding the sphere: the
-// whole cloth stopped in mid-air (kinetic energy 3.36 J -> 0.006 J). With the contacts in the
-// solve the cloth wraps on, as the finest reference (h = 1/960 s: 3.98 J at frame 10, 4.62 J at 11).
+// (collider_contact_ratio 0) the collision phase stops the contact vertices while the rest fall
+// 13 mm a step, a 1% strain limit leaves edges between them over it, and the impact zones merge
+// through those edges into one rigid zone holding the sphere: the whole cloth stops in mid-air.
+// With the contacts in the solve the cloth wraps on, as the finest reference (h = 1/960 s) does:
+// its kinetic energy keeps growing through frames 10 and 11.
 TEST(CollisionScenes, DrapeKeepsFallingThroughItsFirstContact) {
   const SceneDesc scene = load_scene_file(source_dir + "/scenes/drape_sphere.json", {});  // as shipped
   ASSERT_GT(scene.collision.collider_contact_ratio, 0.0);
@@ -328,12 +328,11 @@ TEST(CollisionScenes, DrapeKeepsFallingThroughItsFirstContact) {
   EXPECT_LT(zone_vertices, 100);
 }
 
-// The 32x32 drape with a 1% strain limit (the scene's until 2026-11-28), frames 18-21: with
-// compression at 1% of the stiffness a triangle flattens for next to nothing, a hinge's gradient
-// grows as 1 / height of its flattening wing, and Newton ends 7 steps unconverged there (largest
-// residual 1.2 m/s, 2026-11-28). membrane.min_stretch 0.5 resists the flattening past a stretch of
-// 0.5 at the full stiffness, and every step converges. (With the scene's 2% limit the 32x32 run
-// happens to end no step unconverged without it.)
+// The 32x32 drape with a 1% strain limit, frames 18-21: with compression at 1% of the stiffness a
+// triangle flattens for next to nothing, a hinge's gradient grows as 1 / height of its flattening
+// wing, and Newton ends several steps unconverged there. membrane.min_stretch 0.5 resists the
+// flattening past a stretch of 0.5 at the full stiffness, and every step converges. (With the
+// scene's 2% limit the 32x32 run happens to end no step unconverged without it.)
 TEST(CollisionScenes, DrapeWithASmallestStretchConvergesWhereWingsCollapsed) {
   const auto unconverged_steps = [](const std::string& min_stretch) {
     const SceneDesc scene = load_scene_file(source_dir + "/scenes/drape_sphere.json",

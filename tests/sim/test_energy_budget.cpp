@@ -102,8 +102,8 @@ TEST(EnergyBudget, ImplicitEulerBudgetClosesToTheNewtonResidual) {
 TEST(EnergyBudget, ACappedNewtonSolveBooksItsResidualsWork) {
   // One Newton iteration a step leaves each step unconverged. The work of the force it left
   // unbalanced is booked as the residual flow, so the budget closes as tightly as a converged
-  // run's, and the flow shows what the converged run's does not. (Until 2026-11-29 that work was
-  // left unbooked and showed only in the budget's error.)
+  // run's, and the flow shows what the converged run's does not (unbooked, it would show only in
+  // the budget's error).
   World tight = hanging_cloth(R"({"integrator": "implicit_euler", "time_step": 0.02, "newton": {"tolerance": 1e-9}})");
   World capped = hanging_cloth(
       R"({"integrator": "implicit_euler", "time_step": 0.02, "newton": {"tolerance": 1e-3, "max_iterations": 1}})");
@@ -185,10 +185,10 @@ TEST(EnergyBudget, AMovingPinsWorkIsExternalAndTheBudgetCloses) {
 }
 
 TEST(EnergyBudget, TheDrapeClosesThroughItsHardestContactSteps) {
-  // The 32x32 drape's frame 18 once ended two Newton solves with residuals of 2.5e5 m/s (a hinge
-  // wing collapsing while Phi still fell) and broke the budget by 376 J against 7.8 J: the
-  // solve now returns its best iterate. The residual's work is booked (the residual flow); the
-  // budget error is what no flow books.
+  // At the 32x32 drape's frame 18 a hinge wing collapses while Phi still falls, and a solve that
+  // ended on its last iterate would leave residuals of ~1e5 m/s and break the budget: the solve
+  // returns its best iterate. The residual's work is booked (the residual flow); the budget error
+  // is what no flow books.
   const SceneDesc scene = load_scene_file(source_dir + "/scenes/drape_sphere.json", {"cloths.0.grid.resolution=[32,32]"});
   World world = build_world(scene);
   const FrameSchedule schedule = frame_schedule(scene.fps, scene.time_step);
@@ -208,15 +208,11 @@ TEST(EnergyBudget, TheDrapeClosesThroughItsHardestContactSteps) {
 }
 
 // The twist winds its cloth into a rope from frame ~24 on; from there its Newton solves need up to
-// ~170 iterations (32x16: the median step 13, one in ten over 60, measured 2026-11-26). With the
-// default cap of 30 most of them ended unconverged and the residual's unbooked work broke the
-// budget (40 frames at 32x16: 108 unconverged steps, error 0.038 J = 3.9% of the initial 0.98 J);
-// the scene sets max_iterations 200. In the rope, wings collapse to slivers and the dihedral
-// bending's forces (1/height) stall the solves: with it, 90 frames at 32x16 end 39 steps
-// unconverged (worst 27.8 m/s) and the error passes 1% between frames 80 and 90 (0.026 J at 90,
-// 0.051 J at 110); the scene uses the quadratic model, whose forces stay bounded (20 unconverged
-// steps over 120 frames, worst 0.52 m/s, error 0.00023 J). Run through the rope at a quarter of its
-// vertices with the shipped solver settings.
+// ~170 iterations (32x16; the median step 13). With the default cap of 30 most of them would end
+// unconverged, so the scene sets max_iterations 200. In the rope, wings collapse to slivers and
+// the dihedral bending's forces (1/height) stall the solves, so that the budget's error passes 1%
+// before frame 90; the scene uses the quadratic model, whose forces stay bounded. Run through the
+// rope at a quarter of its vertices with the shipped solver settings.
 TEST(EnergyBudget, TheTwistClosesThroughItsRope) {
   const SceneDesc scene = load_scene_file(source_dir + "/scenes/twist.json", {"cloths.0.grid.resolution=[32,16]"});
   World world = build_world(scene);
@@ -228,7 +224,7 @@ TEST(EnergyBudget, TheTwistClosesThroughItsRope) {
 }
 
 // Every shipped scene, shortened: the budget closes within 1% of the initial energy after every
-// step (the issue's bar; docs/recording.md lists them at full length).
+// step (docs/recording.md, "Energy budget", lists them at full length).
 TEST(EnergyBudget, EveryShippedSceneClosesWithinOnePercent) {
   const std::vector<std::pair<std::string, std::vector<std::string>>> scenes = {
       {"default", {}},
@@ -261,10 +257,9 @@ TEST(EnergyBudget, EveryShippedSceneClosesWithinOnePercent) {
     // Energy is never created overall where nothing moves the cloth but the pins (the drum of
     // the tumble dryer does work through contact, booked in the contact term). The contact
     // phase alone adds energy at a step (the proximity response's push-out leaves an outward
-    // velocity; implicit Euler removes it the next step: docs/recording.md). Known exception,
-    // measured 2026-11-25: soft_balls, where the collision phase adds 0.38 J (2.8% of the
-    // initial energy) more than the integrator removes over these 12 frames. The fast tier
-    // (issue 27) must remove it.
+    // velocity; implicit Euler removes it the next step: docs/recording.md). Known exception:
+    // soft_balls, where the collision phase adds a few percent of the initial energy more than
+    // the integrator removes over these 12 frames, so the check leaves it out.
     if (name != "tumble_dryer" && name != "soft_balls") {
       EXPECT_GT(run.flows.dissipated(), -0.01 * std::abs(run.initial)) << budget;
     }

@@ -68,7 +68,7 @@ TEST(HangingCloth, FrameScheduleCutsFramesIntoEqualSteps) {
 }
 
 TEST(HangingCloth, FrameScheduleRefusesStepCountsPastTheBound) {
-  // 3.3e10 steps once overflowed the int and came out as one step of 1/30 s.
+  // 3.3e10 steps would overflow the int and come out as one step of 1/30 s.
   EXPECT_THROW(frame_schedule(30.0, 1e-12), std::out_of_range);
   EXPECT_DOUBLE_EQ(steps_per_frame(30.0, 1e-12), std::ceil(1.0 / 30.0 / 1e-12 - 1e-9));
   EXPECT_EQ(frame_schedule(1.0, 1.0 / max_steps_per_frame).steps_per_frame, max_steps_per_frame);

@@ -122,7 +122,7 @@ TEST(ThreadGovernor, AChangeOfRegimeIsProbedAtOnce) {
   EXPECT_EQ(governor.current(), 2);
   const auto heavy = [&](int step, int threads) { return cost(change + step, threads); };
   run(governor, ThreadGovernor::first_probe_after + ThreadGovernor::probe_steps, heavy);
-  EXPECT_EQ(governor.current(), 1);  // without the regime test the next probe was ~600 steps away
+  EXPECT_EQ(governor.current(), 1);  // without the regime test, ~600 steps to the next probe
   const GovernedRun after = run(governor, 200, heavy);
   EXPECT_EQ(governor.current(), 1);
   // Two threads only in the probes after 20, 40 and 80 steps.

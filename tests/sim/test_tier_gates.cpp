@@ -1,12 +1,11 @@
 // The drape scene's shipped settings (a 2% strain limit) and the fast tier
 // (scenes/drape_sphere_fast.json) against the reference tier (no tight limit) through the quality
-// gates of issue 27 (support/tier_gates.hpp): the settings that make the drape faster must keep
-// passing them. Candidates the gates must reject show that they can fail: a capped solve whose
-// residual's work went unbooked (energy), and twice the step with a 1% limit and the solve blind
-// to the sphere (collider_contact_ratio 0), whose 64x64 skirt locks out like an umbrella (shape).
-// With the collider contacts in the solve h = 1/120 s no longer locks (its final mean height
-// 13 mm from the reference's at the 1% limit), nor with the shipped 2% limit even without them
-// (9 mm; 2026-11-28).
+// gates (support/tier_gates.hpp): the settings that make the drape faster must keep passing them.
+// Candidates the gates must reject show that they can fail: a capped solve whose residual's work
+// is left unbooked (energy), and twice the step with a 1% limit and the solve blind to the sphere
+// (collider_contact_ratio 0), whose 64x64 skirt locks out like an umbrella (shape). With the
+// collider contacts in the solve h = 1/120 s does not lock at the 1% limit, nor with the shipped
+// 2% limit even without them.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -57,8 +56,8 @@ TEST(TierGates, TheFastSceneIsTheDrapeWithTheFastTiersSettings) {
 
 TEST(TierGates, CandidatesThatShouldFailDo) {
   const testing::DrapeRun reference = testing::run_drape(source_dir, testing::reference_tier);
-  // A capped solve closes its budget because the ledger books its residual's work; had that work
-  // gone unbooked (as until 2026-11-29), the energy gate would fail it.
+  // A capped solve closes its budget because the ledger books its residual's work; were that
+  // work left unbooked, the energy gate would fail it.
   const testing::DrapeRun capped = testing::run_drape(source_dir, {"solver.newton.max_iterations=2"});
   EXPECT_TRUE(capped.energy_closes());
   testing::DrapeRun unbooked = capped;
