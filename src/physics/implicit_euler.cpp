@@ -241,8 +241,8 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   // The iterate with the smallest residual so far. Phi can keep falling by ever smaller amounts
   // while the residual grows by orders of magnitude: a hinge's wing collapsing towards zero height
   // (cheap when the membrane resists compression at 1%), where the angle's gradient grows as
-  // 1 / height and the energy stays bounded. The 64x64 drape had steps run their 30 iterations
-  // that way and end with residuals of 1e7 m/s (2026-11-25). An iteration diverges when its
+  // 1 / height and the energy stays bounded. Left alone, such a step spends its whole iteration
+  // budget there and ends with a residual orders of magnitude above its best. An iteration diverges when its
   // residual is over `diverging_factor` times the best and it lowered Phi by less than
   // `stalled_fraction` of the step's decrease so far; after `diverging_iterations` of them in a
   // row the step stops and returns the best iterate, unconverged. (The residual alone is no merit
@@ -264,10 +264,10 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   // Every step takes at least one iteration, even from a start already within the tolerance. The
   // inertial predictor is no neutral guess: its residual is h times the acceleration the step has
   // to add (|g| h in free fall, less the damping), and accepting it drops that acceleration, the
-  // same way every step. With the tolerance close to |g| h (the 64x64 drape's 1e-2 m/s at
-  // h = 1/960 s: |g| h = 0.0102 m/s, less 0.1 v h of mass damping) a falling cloth met it at the
-  // predictor from 0.2 s on and glided at constant speed, every step "converged" with no
-  // iteration (2026-11-28). One iteration makes such a step exact (free fall is linear).
+  // same way every step. With the tolerance close to |g| h, a falling cloth would meet it at the
+  // predictor and glide at constant speed, every step "converged" with no iteration
+  // (ImplicitEuler.AFallingClothKeepsAcceleratingWithAToleranceJustBelowGravitysPull). One
+  // iteration makes such a step exact (free fall is linear).
   for (int iteration = 0;
        iteration < settings.max_newton_iterations && (iteration == 0 || !report_.converged); ++iteration) {
     report_.gradient_norms.push_back(gradient_vector().norm());

@@ -51,17 +51,14 @@ struct ImplicitEulerSettings {
   // h^2 bending_stiffness_rate() (physics/bending.hpp: their share of m/h^2 on a vertex's diagonal
   // at rest) is below this. The energy and the gradient keep them, so the answer and the residual
   // are the same; the matrix is cheaper (a block row of the grid ~13 blocks with the hinges' wing
-  // tips, ~7 without) and further from the Hessian. Chosen by measurement (the drape at 32 to 128
-  // vertices a side and h = 1/240 or 1/120 s, docs/performance.md): at shares of 0.03 to 0.49
-  // leaving them out made the drape 2-21% faster, at 1.2 and above 19-210% slower (Newton and CG
-  // iterations grow). 0 keeps them always.
+  // tips, ~7 without) and further from the Hessian. Below the threshold leaving them out is
+  // faster; well above it Newton and CG need more iterations than the cheaper matrix saves
+  // (docs/integrators.md, "Which linear solver inside implicit Euler"). 0 keeps them always.
   double bending_hessian_share = 0.75;
   // A step without the hinges in the matrix that has not converged after this many Newton
   // iterations goes on with them (the matrix with them is kept prepared beside): where a cloth
-  // folds over an edge or lies on another, the matrix without them stalls Newton (two_sheets:
-  // 159 unconverged steps in 30 frames without this, none with it). Measured 6 / 8 / 10: the
-  // drape's Newton 1,743 / 1,711 / -, friction_slope's 1,319 / 1,652 / 1,975 (1,039 with the
-  // hinges always in, 4,275 never), two_sheets' (30 frames) 4,728 / 4,512 / - (4,733 always in).
+  // folds over an edge or lies on another, the matrix without them stalls Newton (two_sheets).
+  // 6 iterations is the cheapest of those measured (docs/integrators.md, same section).
   int light_matrix_iterations = 6;
   // Fills NewtonReport::iterations (weft --newton-log): one more pass over the vertices an
   // iteration, to count those above the tolerance.
@@ -110,9 +107,8 @@ int vertices_above_tolerance(const Positions& gradient, const Eigen::VectorXd& i
 
 // newton_residual() at the start of a step (the inertial predictor) of a cloth at rest in its rest
 // shape, under gravity alone: |gravity| h. A newton_tolerance at or above it accepts a step whose
-// vertices are off by gravity's whole pull over it (before every step took at least one
-// iteration, a cloth at rest never moved); the scene file refuses such a tolerance and the
-// viewer's Solver panel warns.
+// vertices are off by gravity's whole pull over it; the scene file refuses such a tolerance and
+// the viewer's Solver panel warns.
 double resting_start_residual(const Vec3& gravity, double h);
 
 // A step's last evaluation of the incremental potential with a gradient, in the parts the energy
