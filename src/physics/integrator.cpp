@@ -18,17 +18,4 @@ const char* to_string(IntegratorKind kind) {
   return "unknown";
 }
 
-bool integrator_from_string(const std::string& name, IntegratorKind& kind) {
-  for (IntegratorKind candidate :
-       {IntegratorKind::symplectic_euler, IntegratorKind::midpoint_euler_cromer, IntegratorKind::explicit_midpoint,
-        IntegratorKind::implicit_euler,
-        IntegratorKind::xpbd}) {
-    if (name == to_string(candidate)) {
-      kind = candidate;
-      return true;
-    }
-  }
-  return false;
-}
-
 }  // namespace weft

@@ -1,6 +1,5 @@
 #pragma once
 // Which time integrator advances the cloth state.
-#include <string>
 
 namespace weft {
 
@@ -13,7 +12,5 @@ enum class IntegratorKind {
 };
 
 const char* to_string(IntegratorKind kind);
-// Parses an integrator name; returns false if it is unknown.
-bool integrator_from_string(const std::string& name, IntegratorKind& kind);
 
 }  // namespace weft
