@@ -105,7 +105,7 @@ TEST(TruthfulOutputs, ErrorsOfASetOverrideNameTheOverrideNotTheSceneFile) {
   result = run_program({weft_program, "--headless", drape_scene, "--out", out.string(), "--set", "fps=0"},
                        dir.file("value.txt"));
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_TRUE(contains(result.error_text, "weft: --set fps=0: /fps: expected an integer in [1, 10000]"))
+  EXPECT_TRUE(contains(result.error_text, "weft: --set fps=0: /fps: expected a number in [1, 10000], got 0"))
       << result.error_text;
   EXPECT_FALSE(fs::exists(out));
 }

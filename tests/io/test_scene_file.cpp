@@ -40,7 +40,7 @@ void expect_scene_error(const std::string& text, const std::vector<std::string>&
     EXPECT_EQ(error.file(), file);
     EXPECT_EQ(error.json_path(), path) << error.what();
     EXPECT_NE(std::string(error.what()).find(words), std::string::npos) << error.what();
-    EXPECT_EQ(std::string(error.what()).rfind(file + ": " + path, 0), 0u) << error.what();
+    EXPECT_EQ(std::string(error.what()).rfind(printable_text(file + ": " + path), 0), 0u) << error.what();
   }
 }
 
