@@ -263,7 +263,11 @@ int Run::load() {
   }
   if (options_.frames >= 0) overrides_.push_back("frames=" + std::to_string(options_.frames));
   scene_ = load_scene_file(scene_file_, overrides_);
-  world_ = build_world(scene_);
+  try {
+    world_ = build_world(scene_);
+  } catch (const SceneError& error) {
+    throw naming_override(error, overrides_);
+  }
   world_.settings.threads = options_.threads > 0 ? options_.threads : omp_get_num_procs();
   world_.settings.adapt_threads = !options_.fixed_threads;
   // A resumed run goes on with the log its first part kept.

@@ -694,6 +694,39 @@ std::string apply_override(json& document, const std::string& assignment) {
   return written.empty() ? path : written;
 }
 
+namespace {
+
+// `error` as the error of the last override whose part (a JSON pointer) holds its path.
+SceneError naming_override(const SceneError& error,
+                           const std::vector<std::pair<std::string, std::string>>& parts) {
+  const std::string& at = error.json_path();
+  const std::string what = error.what();
+  const std::string located = printable_text(error.file() + ": " + (at.empty() ? "/" : at) + ": ");
+  if (what.compare(0, located.size(), located) != 0) return error;
+  for (auto it = parts.rbegin(); it != parts.rend(); ++it) {
+    const std::string& part = it->first;
+    if (at.compare(0, part.size(), part) == 0 && (at.size() == part.size() || at[part.size()] == '/')) {
+      return SceneError("--set " + it->second, at, what.substr(located.size()));
+    }
+  }
+  return error;
+}
+
+}  // namespace
+
+SceneError naming_override(const SceneError& error, const std::vector<std::string>& overrides) {
+  // After parse_scene every override's path exists in the scene, so its part is its path.
+  std::vector<std::pair<std::string, std::string>> parts;
+  for (const std::string& assignment : overrides) {
+    const size_t equals = assignment.find('=');
+    if (equals == std::string::npos) continue;
+    std::string pointer;
+    for (const std::string& token : split_path(assignment.substr(0, equals))) pointer += "/" + token;
+    parts.emplace_back(pointer, assignment);
+  }
+  return naming_override(error, parts);
+}
+
 SceneDesc load_scene_file(const std::string& path, const std::vector<std::string>& overrides) {
   // A folder opens as a stream but fails on the first read (an uncaught ios_base::failure).
   std::error_code ignored;
@@ -738,18 +771,7 @@ SceneDesc parse_scene_text(const std::string& text, const std::string& file,
   try {
     return parse_scene(document, file);
   } catch (const SceneError& error) {
-    // The last override wins, as it does for the value.
-    const std::string& at = error.json_path();
-    const std::string what = error.what();
-    const std::string located = printable_text(error.file() + ": " + (at.empty() ? "/" : at) + ": ");
-    for (auto it = written.rbegin(); it != written.rend(); ++it) {
-      const std::string& part = it->first;
-      if (at.compare(0, part.size(), part) == 0 && (at.size() == part.size() || at[part.size()] == '/') &&
-          what.compare(0, located.size(), located) == 0) {
-        throw SceneError("--set " + it->second, at, what.substr(located.size()));
-      }
-    }
-    throw;
+    throw naming_override(error, written);
   }
 }
 

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/error.hpp"
 #include "sim/scene_desc.hpp"
 
 namespace weft {
@@ -32,6 +33,11 @@ SceneDesc load_scene_file(const std::string& path, const std::vector<std::string
 // ("--set path=value"). Returns the JSON pointer of the part the override wrote: its path, or the
 // first member on it that the document did not have (which the override created).
 std::string apply_override(nlohmann::json& document, const std::string& assignment);
+
+// `error` as the error of the last of `overrides` that sets the part of the scene it is in
+// ("--set path=value: /path: ..."), for errors found once the scene is read (build_world's);
+// any other error as it is.
+SceneError naming_override(const SceneError& error, const std::vector<std::string>& overrides);
 
 // The scene with every field written out (defaults included); parse_scene reads it back.
 nlohmann::json scene_to_json(const SceneDesc& scene);
