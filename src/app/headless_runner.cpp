@@ -187,6 +187,7 @@ class Run {
   void write_run_json(const std::string& status) const;
   void write_summary(const std::string& status, int exit_code, const nlohmann::json& failure = nullptr) const;
   void write_checkpoint_now(int frame) const;
+  void say_replacing_a_run() const;
 
   const HeadlessOptions& options_;
   RecordingFormat format_ = RecordingFormat::point_cache;  // --format, or on resume the recorded one
@@ -262,7 +263,11 @@ int Run::load() {
   }
   if (options_.frames >= 0) overrides_.push_back("frames=" + std::to_string(options_.frames));
   scene_ = load_scene_file(scene_file_, overrides_);
-  world_ = build_world(scene_);
+  try {
+    world_ = build_world(scene_);
+  } catch (const SceneError& error) {
+    throw naming_override(error, overrides_);
+  }
   world_.settings.threads = options_.threads > 0 ? options_.threads : omp_get_num_procs();
   world_.settings.adapt_threads = !options_.fixed_threads;
   // A resumed run goes on with the log its first part kept.
@@ -388,12 +393,35 @@ void Run::flush_newton_rows() {
   newton_rows_.clear();
 }
 
+// A new run into a folder that holds another's: said, so that nobody takes it for a resume. Called
+// before the folder's files are replaced (its run.json says what ran there).
+void Run::say_replacing_a_run() const {
+  const fs::path run_path = out_ / "run.json";
+  std::error_code error;
+  if (!fs::exists(run_path, error) && !fs::exists(out_ / "stats.csv", error)) return;
+  std::ifstream in(run_path);
+  const nlohmann::json run = nlohmann::json::parse(in, nullptr, false);
+  std::string what = "an earlier run";
+  if (run.is_object() && run.contains("status") && run["status"].is_string() &&
+      run.contains("frames_written") && run["frames_written"].is_number_integer()) {
+    what += " (" + run["status"].get<std::string>() + ", " +
+            std::to_string(run["frames_written"].get<long long>()) + " frames written)";
+  }
+  std::fprintf(stderr, "weft: %s: replacing %s; --resume %s continues a run instead\n", out_.c_str(),
+               what.c_str(), out_.c_str());
+}
+
 int Run::record_and_step() {
   const FrameSchedule schedule = frame_schedule(scene_.fps, scene_.time_step);
   RecordingWriter recording(out_.string(), format_, scene_.frames, scene_.fps);
   std::error_code ignored;
+  // summary.json is written at the end: one left from an earlier run, or from the first part of
+  // this one, would speak for this run until then, and for ever if it is killed.
+  fs::remove(out_ / "summary.json", ignored);
   if (first_frame_ == 0) {
+    say_replacing_a_run();
     fs::remove(out_ / checkpoint_file, ignored);  // a stale checkpoint of an earlier run
+    if (!log_newton_) fs::remove(out_ / newton_log_file, ignored);
     write_run_json("running");
     recording.start(world_);
     stats_log_ = CsvLog::create((out_ / "stats.csv").string(), stats_header);

@@ -19,6 +19,7 @@
 
 #include "app/progress.hpp"
 #include "core/error.hpp"
+#include "io/install_paths.hpp"
 #include "render/orbit_camera.hpp"
 #include "render/picking.hpp"
 #include "render/render_error.hpp"
@@ -325,9 +326,10 @@ void place_camera(OrbitCamera& camera, const SceneView& scene_view, const World&
 }
 
 // Runs the window until it is closed, or draws one screenshot. Returns the exit code.
-int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptions& options) {
+int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptions& options,
+               const std::string& shader_dir) {
   ImGuiLayer imgui(window);
-  Renderer renderer(WEFT_SHADER_DIR);
+  Renderer renderer(shader_dir);
   ViewerState state;
   state.view = view_options_from(options, session.scene().view);
   state.panels_in_pictures = panels_in_pictures(options, session.scene().view);
@@ -501,6 +503,17 @@ int run_viewer(const ViewerOptions& options) {
     return 2;
   }
 
+  // Installed (PREFIX/bin/weft beside PREFIX/share/weft/shaders), else the source tree built from.
+  std::string shader_dir;
+  try {
+    shader_dir = find_data_dir(
+        {executable_dir().empty() ? "" : executable_dir() + "/../share/weft/shaders", WEFT_SHADER_DIR},
+        "mesh.vert", "the viewer's shaders");
+  } catch (const IoError& error) {
+    std::fprintf(stderr, "weft: %s\n", error.what());
+    return 1;
+  }
+
   glfwSetErrorCallback(report_glfw_error);
   GlfwLibrary glfw;
   const char* no_window_message =
@@ -522,7 +535,7 @@ int run_viewer(const ViewerOptions& options) {
   }
 
   try {
-    return run_window(window.get(), *session, options);
+    return run_window(window.get(), *session, options, shader_dir);
   } catch (const RenderError& error) {
     std::fprintf(stderr, "weft: %s\n", error.what());
     return 1;

@@ -2,8 +2,10 @@
 
 #include <tiny_obj_loader.h>
 
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <ostream>
@@ -21,7 +23,12 @@ std::string read_text(const std::string& path) {
   std::error_code error;
   if (std::filesystem::is_directory(path, error)) throw IoError(path + ": is a directory, not a file");
   std::ifstream file(path, std::ios::binary);
-  if (!file) throw IoError(path + ": cannot open file");
+  if (!file) {
+    // The whole path tried: a relative one was resolved against a folder the reader may not guess.
+    const int cause = errno;
+    const std::string tried = std::filesystem::absolute(path, error).lexically_normal().string();
+    throw IoError((tried.empty() ? path : tried) + ": cannot open file: " + std::strerror(cause));
+  }
   std::ostringstream text;
   text << file.rdbuf();
   if (file.bad()) throw IoError(path + ": cannot read file");

@@ -1,6 +1,8 @@
 #include "io/scene_file.hpp"
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -636,11 +638,11 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
   return scene;
 }
 
-void apply_override(json& document, const std::string& assignment, const std::string& file) {
+std::string apply_override(json& document, const std::string& assignment) {
+  const std::string source = "--set " + assignment;
   const size_t equals = assignment.find('=');
   if (equals == std::string::npos || equals == 0) {
-    throw SceneError(file, "",
-                     "--set \"" + assignment + "\": expected path=value, e.g. solver.time_step=0.001");
+    throw SceneError(source, "", "expected path=value, e.g. solver.time_step=0.001");
   }
   const std::vector<std::string> tokens = split_path(assignment.substr(0, equals));
   const std::string text = assignment.substr(equals + 1);
@@ -652,38 +654,77 @@ void apply_override(json& document, const std::string& assignment, const std::st
     try {
       (void)value.dump();
     } catch (const json::type_error&) {
-      throw SceneError(file, "", "--set \"" + assignment + "\": the value is neither JSON nor UTF-8 text");
+      throw SceneError(source, "", "the value is neither JSON nor UTF-8 text");
     }
   }
 
   json* node = &document;
   std::string path;
+  std::string written;  // the first member the override creates, if any
   for (size_t k = 0; k < tokens.size(); ++k) {
     const std::string& token = tokens[k];
-    if (token.empty()) throw SceneError(file, path, "--set \"" + assignment + "\": empty path component");
+    if (token.empty()) throw SceneError(source, path, "empty path component");
     const bool last = k + 1 == tokens.size();
     if (node->is_array()) {
       // Nine digits at most: no array is that long, and std::stoul would throw past its range.
       const bool numeric = token.find_first_not_of("0123456789") == std::string::npos && token.size() <= 9;
       const size_t index = numeric ? std::stoul(token) : 0;
       if (!numeric || index >= node->size()) {
-        throw SceneError(
-            file, path + "/" + token,
-            "--set: expected an index below " + std::to_string(node->size()) + " into this array");
+        throw SceneError(source, path + "/" + token,
+                         "expected an index below " + std::to_string(node->size()) + " into this array");
       }
       node = &(*node)[index];
     } else {
-      if (node->is_null()) *node = json::object();
-      if (!node->is_object()) {
-        throw SceneError(file, path,
-                         "--set: cannot descend into " + type_name(*node) + " with \"" + token + "\"");
+      if (node->is_null()) {
+        *node = json::object();
+        if (written.empty()) written = path;
       }
-      if (!last && !node->contains(token)) (*node)[token] = json::object();
+      if (!node->is_object()) {
+        throw SceneError(source, path, "cannot descend into " + type_name(*node) + " with \"" + token + "\"");
+      }
+      if (!node->contains(token)) {
+        if (written.empty()) written = path + "/" + token;
+        if (!last) (*node)[token] = json::object();
+      }
       node = &(*node)[token];
     }
     path += "/" + token;
   }
   *node = std::move(value);
+  return written.empty() ? path : written;
+}
+
+namespace {
+
+// `error` as the error of the last override whose part (a JSON pointer) holds its path.
+SceneError naming_override(const SceneError& error,
+                           const std::vector<std::pair<std::string, std::string>>& parts) {
+  const std::string& at = error.json_path();
+  const std::string what = error.what();
+  const std::string located = printable_text(error.file() + ": " + (at.empty() ? "/" : at) + ": ");
+  if (what.compare(0, located.size(), located) != 0) return error;
+  for (auto it = parts.rbegin(); it != parts.rend(); ++it) {
+    const std::string& part = it->first;
+    if (at.compare(0, part.size(), part) == 0 && (at.size() == part.size() || at[part.size()] == '/')) {
+      return SceneError("--set " + it->second, at, what.substr(located.size()));
+    }
+  }
+  return error;
+}
+
+}  // namespace
+
+SceneError naming_override(const SceneError& error, const std::vector<std::string>& overrides) {
+  // After parse_scene every override's path exists in the scene, so its part is its path.
+  std::vector<std::pair<std::string, std::string>> parts;
+  for (const std::string& assignment : overrides) {
+    const size_t equals = assignment.find('=');
+    if (equals == std::string::npos) continue;
+    std::string pointer;
+    for (const std::string& token : split_path(assignment.substr(0, equals))) pointer += "/" + token;
+    parts.emplace_back(pointer, assignment);
+  }
+  return naming_override(error, parts);
 }
 
 SceneDesc load_scene_file(const std::string& path, const std::vector<std::string>& overrides) {
@@ -693,7 +734,11 @@ SceneDesc load_scene_file(const std::string& path, const std::vector<std::string
     throw SceneError(path, "", "is a folder; expected a scene file (JSON), e.g. scenes/default.json");
   }
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path, "", "cannot open the scene file");
+  if (!in) {
+    const int cause = errno;
+    const std::string tried = std::filesystem::absolute(path, ignored).lexically_normal().string();
+    throw SceneError(path, "", "cannot open the scene file " + tried + ": " + std::strerror(cause));
+  }
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw SceneError(path, "", "cannot read the scene file");
@@ -719,8 +764,15 @@ SceneDesc parse_scene_text(const std::string& text, const std::string& file,
       throw SceneError(file, "", "invalid JSON: " + message);
     }
   }
-  for (const std::string& assignment : overrides) apply_override(document, assignment, file);
-  return parse_scene(document, file);
+  // What each override wrote (a JSON pointer), to name the override in an error inside it.
+  std::vector<std::pair<std::string, std::string>> written;
+  for (const std::string& assignment : overrides)
+    written.emplace_back(apply_override(document, assignment), assignment);
+  try {
+    return parse_scene(document, file);
+  } catch (const SceneError& error) {
+    throw naming_override(error, written);
+  }
 }
 
 json scene_to_json(const SceneDesc& scene) {

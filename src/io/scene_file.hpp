@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/error.hpp"
 #include "sim/scene_desc.hpp"
 
 namespace weft {
@@ -19,7 +20,8 @@ extern const std::vector<std::string> display_switch_names;
 SceneDesc parse_scene(const nlohmann::json& document, const std::string& file);
 
 // Parses a scene file's text (JSON), applies the overrides, then parses the scene; `file` names it
-// in errors. load_scene_file reads the file and calls this. Throws SceneError.
+// in errors, except those in a part an override wrote, which name the override. load_scene_file
+// reads the file and calls this. Throws SceneError.
 SceneDesc parse_scene_text(const std::string& text, const std::string& file,
                            const std::vector<std::string>& overrides = {});
 
@@ -27,8 +29,15 @@ SceneDesc parse_scene_text(const std::string& text, const std::string& file,
 // value: JSON, or a bare string), then parses. Throws SceneError.
 SceneDesc load_scene_file(const std::string& path, const std::vector<std::string>& overrides = {});
 
-// Applies one "path=value" override to a document; throws SceneError naming `file`.
-void apply_override(nlohmann::json& document, const std::string& assignment, const std::string& file);
+// Applies one "path=value" override to a document; throws SceneError naming the override
+// ("--set path=value"). Returns the JSON pointer of the part the override wrote: its path, or the
+// first member on it that the document did not have (which the override created).
+std::string apply_override(nlohmann::json& document, const std::string& assignment);
+
+// `error` as the error of the last of `overrides` that sets the part of the scene it is in
+// ("--set path=value: /path: ..."), for errors found once the scene is read (build_world's);
+// any other error as it is.
+SceneError naming_override(const SceneError& error, const std::vector<std::string>& overrides);
 
 // The scene with every field written out (defaults included); parse_scene reads it back.
 nlohmann::json scene_to_json(const SceneDesc& scene);

@@ -27,7 +27,11 @@ bool world_is_finite(const World& world) {
 SimulationSession::SimulationSession(std::string scene_path, std::vector<std::string> overrides)
     : scene_path_(std::move(scene_path)), overrides_(std::move(overrides)) {
   scene_ = load_scene_file(scene_path_, overrides_);
-  world_ = build_world(scene_);
+  try {
+    world_ = build_world(scene_);
+  } catch (const SceneError& error) {
+    throw naming_override(error, overrides_);
+  }
   set_max_time_step(scene_.time_step);
 }
 
@@ -39,7 +43,8 @@ bool SimulationSession::replace_world(const std::string& scene_path, const std::
     scene_ = std::move(scene);
     world_ = std::move(world);
   } catch (const SceneError& error) {
-    error_ = std::string(action) + " failed, kept the current scene: " + error.what();
+    error_ =
+        std::string(action) + " failed, kept the current scene: " + naming_override(error, overrides).what();
     return false;
   } catch (const IoError& error) {
     error_ = std::string(action) + " failed, kept the current scene: " + error.what();

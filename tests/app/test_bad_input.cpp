@@ -92,9 +92,10 @@ TEST(BadInput, StepCountsARunCannotFinishAreRefused) {
   ProgramResult result =
       weft(dir, {"--headless", drape_scene, "--out", out.string(), "--set", "solver.time_step=1e-12"});
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_TRUE(contains(result.error_text,
-                       "drape_sphere.json: /solver/time_step: expected a time step of at least 3.333e-08 s "
-                       "at 30 fps, got 1e-12"))
+  EXPECT_TRUE(contains(
+      result.error_text,
+      "--set solver.time_step=1e-12: /solver/time_step: expected a time step of at least 3.333e-08 s "
+      "at 30 fps, got 1e-12"))
       << result.error_text;
   EXPECT_TRUE(contains(result.error_text, "more than the 1000000")) << result.error_text;
 
@@ -105,20 +106,23 @@ TEST(BadInput, StepCountsARunCannotFinishAreRefused) {
 
   result = weft(dir, {"--headless", default_scene, "--out", out.string(), "--set", "solver.substeps=100000"});
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_TRUE(contains(
-      result.error_text,
-      "default.json: /solver/substeps: expected at most 12500 substeps with 80 steps per frame, got 100000"))
+  EXPECT_TRUE(contains(result.error_text,
+                       "--set solver.substeps=100000: /solver/substeps: expected at most 12500 substeps with "
+                       "80 steps per frame, "
+                       "got 100000"))
       << result.error_text;
 
   result = weft(dir, {"--headless", default_scene, "--out", out.string(), "--set", "cloths.0.thickness=1e9"});
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_TRUE(contains(result.error_text,
-                       "default.json: /cloths/0/thickness: expected a contact thickness of at most 0.2828 m"))
+  EXPECT_TRUE(contains(
+      result.error_text,
+      "--set cloths.0.thickness=1e9: /cloths/0/thickness: expected a contact thickness of at most 0.2828 m"))
       << result.error_text;
 
   result = weft(dir, {"--headless", default_scene, "--out", out.string(), "--set", "fps=1e300"});
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_TRUE(contains(result.error_text, "default.json: /fps: expected a number in [1, 10000], got 1e+300"))
+  EXPECT_TRUE(
+      contains(result.error_text, "--set fps=1e300: /fps: expected a number in [1, 10000], got 1e+300"))
       << result.error_text;
   EXPECT_FALSE(fs::exists(out));
 }
@@ -161,8 +165,9 @@ TEST(BadInput, SceneTooLargeForMemoryIsRefused) {
                        out.string() + " --set 'cloths.0.grid.resolution=[4096,4096]'"},
                   dir.file("estimate.txt"));
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_TRUE(
-      contains(result.error_text, "default.json: /cloths/0/grid/resolution: the scene needs about 20.1 GB"))
+  EXPECT_TRUE(contains(
+      result.error_text,
+      "--set cloths.0.grid.resolution=[4096,4096]: /cloths/0/grid/resolution: the scene needs about 20.1 GB"))
       << result.error_text;
   EXPECT_FALSE(fs::exists(out));
 

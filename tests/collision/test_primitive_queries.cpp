@@ -94,6 +94,17 @@ void add_swept(QueryWorld& world, const Triangles& triangles, const Positions& x
   world.add(triangles, static_cast<int>(n));
 }
 
+// Three draws, z first, then y, then x: written out because the order in which a call's arguments
+// are evaluated is unspecified (g++ goes right to left, clang left to right), so
+// Vec3(noise(rng), noise(rng), noise(rng)) gave the two compilers different meshes. This order is
+// g++'s, which the thresholds below were set with.
+Vec3 random_vec3(std::uniform_real_distribution<double>& noise, std::mt19937& rng) {
+  const double z = noise(rng);
+  const double y = noise(rng);
+  const double x = noise(rng);
+  return Vec3(x, y, z);
+}
+
 // A grid crumpled by a sine and noise, moving a random step: boxes of its vertices.
 void add_swept_grid(QueryWorld& world, int n, unsigned seed, const Vec3& shift,
                     GridTriangulation triangulation) {
@@ -106,7 +117,7 @@ void add_swept_grid(QueryWorld& world, int n, unsigned seed, const Vec3& shift,
     x_start.col(v) += shift;
   }
   x_end = x_start;
-  for (int v = 0; v < grid.num_vertices(); ++v) x_end.col(v) += Vec3(noise(rng), noise(rng), noise(rng));
+  for (int v = 0; v < grid.num_vertices(); ++v) x_end.col(v) += random_vec3(noise, rng);
   add_swept(world, grid.triangles, x_start, x_end);
 }
 
@@ -399,7 +410,7 @@ TEST(PrimitiveQueries, ReQueryOfMovedVerticesGivesEveryCandidateWithAMovedVertex
   std::vector<char> moved(world.lower.cols(), 0);
   for (int v = 0; v < world.meshes[0].num_vertices; v += 5) {
     moved[v] = 1;
-    const Vec3 x = world.upper.col(v) + Vec3(push(rng), push(rng), push(rng));
+    const Vec3 x = world.upper.col(v) + random_vec3(push, rng);
     world.lower.col(v) = world.lower.col(v).cwiseMin(x);
     world.upper.col(v) = world.upper.col(v).cwiseMax(x);
   }
@@ -601,10 +612,10 @@ TEST(PrimitiveQueries, EveryCloseNeighbourPairOfATightRollWithAFoldedHemIsACandi
     } else {  // the hem: folded back flat along the first row's tangent, half a gap above it
       x_start.col(v) = Vec3(0.02 + (s - 0.8) * 0.9, y, 0.5 * gap + 0.3 * (s - 0.8) * gap);
     }
-    x_start.col(v) += Vec3(noise(rng), noise(rng), noise(rng));
+    x_start.col(v) += random_vec3(noise, rng);
   }
   Positions x_end = x_start;
-  for (int v = 0; v < grid.num_vertices(); ++v) x_end.col(v) += Vec3(noise(rng), noise(rng), noise(rng));
+  for (int v = 0; v < grid.num_vertices(); ++v) x_end.col(v) += random_vec3(noise, rng);
   add_swept(world, grid.triangles, x_start, x_end);
   add_swept_grid(world, 8, 22, Vec3(0.0, 0.0, 0.3), GridTriangulation::alternating);
   world.build();

@@ -28,7 +28,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::istringstream lines(std::string(reinterpret_cast<const char*>(data), size));
   weft::fuzz::expect_documented_errors([&] {
     nlohmann::json document = nlohmann::json::parse(base_scene);
-    for (std::string line; std::getline(lines, line);) weft::apply_override(document, line, "fuzz.json");
+    for (std::string line; std::getline(lines, line);) weft::apply_override(document, line);
     weft::parse_scene(document, "fuzz.json");
   });
   return 0;

@@ -26,16 +26,21 @@ const char* minimal_scene = R"({
 void expect_scene_error(const std::string& text, const std::vector<std::string>& overrides,
                         const std::string& path, const std::string& words) {
   json document = json::parse(text);
+  std::string file;  // what the error must name: the override being applied, else the scene
   try {
-    for (const auto& assignment : overrides) apply_override(document, assignment, "scene.json");
+    for (const auto& assignment : overrides) {
+      file = "--set " + assignment;
+      apply_override(document, assignment);
+    }
+    file = "scene.json";
     const SceneDesc scene = parse_scene(document, "scene.json");
     build_world(scene);
     FAIL() << "expected a SceneError at " << path;
   } catch (const SceneError& error) {
-    EXPECT_EQ(error.file(), "scene.json");
+    EXPECT_EQ(error.file(), file);
     EXPECT_EQ(error.json_path(), path) << error.what();
     EXPECT_NE(std::string(error.what()).find(words), std::string::npos) << error.what();
-    EXPECT_EQ(std::string(error.what()).rfind("scene.json: " + path, 0), 0u) << error.what();
+    EXPECT_EQ(std::string(error.what()).rfind(printable_text(file + ": " + path), 0), 0u) << error.what();
   }
 }
 
@@ -118,20 +123,20 @@ TEST(SceneFile, ANewtonToleranceThatTheRestingStartMeetsIsRefused) {
   expect_scene_error(minimal_scene, substeps, "/solver/newton/tolerance", "below 0.02044 m/s");
   // Below it, or without gravity, or with an integrator that has no Newton solve, it parses.
   json document = json::parse(minimal_scene);
-  for (const auto& assignment : with("solver.newton.tolerance=0.03")) apply_override(document, assignment, "s");
+  for (const auto& assignment : with("solver.newton.tolerance=0.03")) apply_override(document, assignment);
   EXPECT_NO_THROW(parse_scene(document, "s"));
-  apply_override(document, "solver.newton.tolerance=0.05", "s");
-  apply_override(document, "gravity=[0,0,0]", "s");
+  apply_override(document, "solver.newton.tolerance=0.05");
+  apply_override(document, "gravity=[0,0,0]");
   EXPECT_NO_THROW(parse_scene(document, "s"));
-  apply_override(document, "gravity=[0,-9.81,0]", "s");
-  apply_override(document, "solver.integrator=\"xpbd\"", "s");
+  apply_override(document, "gravity=[0,-9.81,0]");
+  apply_override(document, "solver.integrator=\"xpbd\"");
   EXPECT_NO_THROW(parse_scene(document, "s"));
 }
 
 TEST(SceneFile, XpbdKeysAreReadCheckedAndRoundTrip) {
   json document = json::parse(minimal_scene);
-  apply_override(document, "solver.integrator=xpbd", "scene.json");
-  apply_override(document, "solver.xpbd={\"substeps\": 12, \"iterations\": 3}", "scene.json");
+  apply_override(document, "solver.integrator=xpbd");
+  apply_override(document, "solver.xpbd={\"substeps\": 12, \"iterations\": 3}");
   const SceneDesc scene = parse_scene(document, "scene.json");
   EXPECT_EQ(scene.integrator, IntegratorKind::xpbd);
   EXPECT_EQ(scene.xpbd.substeps, 12);
@@ -175,15 +180,15 @@ TEST(SceneFile, FramesNeedingMoreThanTheBoundOfSubStepsAreRefused) {
                      "/solver/xpbd/substeps", "expected at most 294 XPBD substeps with 3400 steps per frame");
   // Just under the bound: accepted.
   json document = json::parse(minimal_scene);
-  apply_override(document, "fps=1", "scene.json");
-  apply_override(document, "solver.time_step=1.000001e-6", "scene.json");
+  apply_override(document, "fps=1");
+  apply_override(document, "solver.time_step=1.000001e-6");
   EXPECT_NO_THROW(parse_scene(document, "scene.json"));
 }
 
 TEST(SceneFile, ContactThicknessBeyondATenthOfTheClothIsRefused) {
   // The 1 x 1 m cloth's diagonal is 1.414 m.
   json document = json::parse(minimal_scene);
-  apply_override(document, "cloths.0.thickness=0.14", "scene.json");
+  apply_override(document, "cloths.0.thickness=0.14");
   EXPECT_NO_THROW(build_world(parse_scene(document, "scene.json")));
   expect_scene_error(minimal_scene, {"cloths.0.thickness=0.15"}, "/cloths/0/thickness",
                      "expected a contact thickness of at most 0.1414 m (10% of the cloth's size");
@@ -200,7 +205,7 @@ TEST(SceneFile, BadOverridesAreReported) {
   expect_scene_error(minimal_scene, {"cloths.3.name=x"}, "/cloths/3", "expected an index below 1");
   expect_scene_error(minimal_scene, {"name.first=x"}, "/name", "cannot descend");
   json document = json::parse(minimal_scene);
-  EXPECT_THROW(apply_override(document, "no_equals_sign", "scene.json"), SceneError);
+  EXPECT_THROW(apply_override(document, "no_equals_sign"), SceneError);
 }
 
 // Found by tests/fuzz/fuzz_set: an index past std::stoul's range (std::out_of_range) and a bare
@@ -212,16 +217,47 @@ TEST(SceneFile, OverridesWithHugeIndicesOrNonUtf8ValuesAreSceneErrors) {
   expect_scene_error(minimal_scene, {"name=caf\xc3"}, "", "neither JSON nor UTF-8 text");
   // Valid UTF-8 stays a bare string.
   json document = json::parse(minimal_scene);
-  apply_override(document, "name=caf\xc3\xa9", "scene.json");
+  apply_override(document, "name=caf\xc3\xa9");
   EXPECT_EQ(parse_scene(document, "scene.json").name, "caf\xc3\xa9");
+}
+
+// parse_scene_text, as weft reads a scene: an error inside what an override wrote names the
+// override, one elsewhere the scene file.
+TEST(SceneFile, ErrorsInsideAnOverrideNameTheOverride) {
+  const auto message = [](const std::string& text, const std::vector<std::string>& overrides) -> std::string {
+    try {
+      parse_scene_text(text, "scene.json", overrides);
+    } catch (const SceneError& error) {
+      return error.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(message(minimal_scene, {"solver.timestep=0.001"})
+                .rfind("--set solver.timestep=0.001: /solver/timestep: unknown key \"timestep\"", 0),
+            0u);
+  EXPECT_EQ(message(minimal_scene, {"fps=30", "solver.time_step=-1"})
+                .rfind("--set solver.time_step=-1: /solver/time_step: expected a number > 0", 0),
+            0u);
+  // A member the override created holds the error: the override made /extra, not the file.
+  EXPECT_EQ(message(minimal_scene, {"extra.depth=1"}).rfind("--set extra.depth=1: /extra: unknown key", 0),
+            0u);
+  EXPECT_EQ(message(minimal_scene, {"cloths.0.grid.resolution=[4,4.5]"})
+                .rfind("--set cloths.0.grid.resolution=[4,4.5]: /cloths/0/grid/resolution/1: ", 0),
+            0u);
+  // The later of two overrides of one field is the one in effect, and the one named.
+  EXPECT_EQ(message(minimal_scene, {"fps=-1", "fps=0"}).rfind("--set fps=0: /fps: ", 0), 0u);
+  // An error in the file stays the file's, whatever else is overridden.
+  std::string bad_file = minimal_scene;
+  bad_file.insert(bad_file.find('{') + 1, R"("colour": 1,)");
+  EXPECT_EQ(message(bad_file, {"fps=30"}).rfind("scene.json: /colour: unknown key", 0), 0u);
 }
 
 TEST(SceneFile, OverridesAcceptDotsPointersJsonAndBareStrings) {
   json document = json::parse(minimal_scene);
-  apply_override(document, "solver.substeps=4", "scene.json");
-  apply_override(document, "/cloths/0/grid/resolution=[8, 6]", "scene.json");
-  apply_override(document, "name=sweep_case_1", "scene.json");
-  apply_override(document, "solver.integrator=symplectic_euler", "scene.json");
+  apply_override(document, "solver.substeps=4");
+  apply_override(document, "/cloths/0/grid/resolution=[8, 6]");
+  apply_override(document, "name=sweep_case_1");
+  apply_override(document, "solver.integrator=symplectic_euler");
   const SceneDesc scene = parse_scene(document, "scene.json");
   EXPECT_EQ(scene.substeps, 4);
   EXPECT_EQ(scene.cloths[0].grid_nx, 8);
@@ -248,7 +284,7 @@ TEST(SceneFile, NumbersPastADoublesRangeAreInvalidJson) {
 
 TEST(SceneFile, ResolvedSceneRoundTrips) {
   json document = json::parse(minimal_scene);
-  apply_override(document, "cloths.0.pins.corners=[\"top_left\"]", "scene.json");
+  apply_override(document, "cloths.0.pins.corners=[\"top_left\"]");
   const SceneDesc scene = parse_scene(document, "scene.json");
   const json written = scene_to_json(scene);
   const SceneDesc again = parse_scene(written, "scene.json");
@@ -329,13 +365,13 @@ TEST(SceneFile, ViewErrorsNameThePath) {
 TEST(SceneFile, ViewIsNotPartOfTheSimulatedScene) {
   json document = json::parse(minimal_scene);
   const json plain = scene_to_json(parse_scene(document, "scene.json"));
-  apply_override(document, "view.show=[\"cutaway\"]", "scene.json");
-  apply_override(document, "view.distance=4", "scene.json");
+  apply_override(document, "view.show=[\"cutaway\"]");
+  apply_override(document, "view.distance=4");
   const json viewed = scene_to_json(parse_scene(document, "scene.json"));
   EXPECT_NE(viewed, plain);
   EXPECT_EQ(simulated_part(viewed), simulated_part(plain));
   // Any other change still shows.
-  apply_override(document, "fps=60", "scene.json");
+  apply_override(document, "fps=60");
   EXPECT_NE(simulated_part(scene_to_json(parse_scene(document, "scene.json"))), simulated_part(plain));
 }
 

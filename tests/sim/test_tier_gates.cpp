@@ -48,7 +48,7 @@ TEST(TierGates, TheFastTierPassesEveryGate) {
 // The shipped fast scene is the drape with the fast tier's settings and nothing else.
 TEST(TierGates, TheFastSceneIsTheDrapeWithTheFastTiersSettings) {
   nlohmann::json drape = testing::read_json(source_dir + "/scenes/drape_sphere.json");
-  for (const std::string& assignment : testing::fast_tier) apply_override(drape, assignment, "drape_sphere.json");
+  for (const std::string& assignment : testing::fast_tier) apply_override(drape, assignment);
   drape["name"] = "drape_sphere_fast";
   const nlohmann::json fast = testing::read_json(source_dir + "/scenes/drape_sphere_fast.json");
   EXPECT_EQ(drape, fast) << "scenes/drape_sphere_fast.json differs from the drape with testing::fast_tier";

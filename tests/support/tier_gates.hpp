@@ -91,7 +91,7 @@ inline SceneDesc hanging_cloth(const std::string& source_dir, const std::vector<
   })");
   document["solver"] = drape.at("solver");
   if (drape.contains("collision")) document["collision"] = drape.at("collision");
-  for (const std::string& assignment : overrides) apply_override(document, assignment, "<hanging cloth>");
+  for (const std::string& assignment : overrides) apply_override(document, assignment);
   return parse_scene(document, "<hanging cloth>");
 }
 
