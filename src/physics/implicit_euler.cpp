@@ -59,6 +59,7 @@ void ImplicitEulerSolver::prepare(const ClothModel& model, bool hinges_in_matrix
     free_mask_.segment<3>(3 * i).setConstant(model.inverse_mass[i] > 0.0);
   rhs_.resize(3 * num_vertices_);
   dx_.resize(3 * num_vertices_);
+  trial_step_.resize(3 * num_vertices_);
   gravity_drop_.resize(3 * num_vertices_);
   report_.gradient_norms.reserve(64);
   x_linearized_.resize(3, num_vertices_);
@@ -99,7 +100,7 @@ double ImplicitEulerSolver::incremental_potential(const ClothModel& model, const
                                 hessian != nullptr ? &contact_blocks_ : nullptr);
     if (gradient != nullptr) *gradient += contact_gradient_;
     if (hessian != nullptr) {
-      contact_coupled_ = contact_blocks_.assemble(*hessian);
+      contact_coupled_ = contact_blocks_.assemble(*hessian, /*bound_off_pattern=*/cholesky_in_use_);
     }
   }
   if (gradient != nullptr) {
@@ -160,6 +161,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   penalty_ = penalty != nullptr && penalty->active() ? penalty : nullptr;
   contact_ = contact;
   contact_coupled_ = false;
+  cholesky_in_use_ = settings.linear_solver == LinearSolverKind::cholesky;
   ClothState& state = cloth.state;
   // The hinges' Hessian stays out of CG's matrix while their share of M/h^2 is small (settings'
   // bending_hessian_share). The viewer's sliders change the bending stiffness and the density,
@@ -211,6 +213,14 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
       if (model.inverse_mass[i] == 0.0 && !(x.col(i) - pin_targets_.col(i)).isZero(0.0)) return false;
     }
     return true;
+  };
+
+  // Whether the Newton step moves a pin (towards its target): such a step is not stretched.
+  const auto pins_moving = [&] {
+    for (int i = 0; i < num_vertices_; ++i) {
+      if (model.inverse_mass[i] == 0.0 && !dx_.segment<3>(3 * i).isZero(0.0)) return true;
+    }
+    return false;
   };
 
   // With Cholesky the exact Hessian is tried first: where it is positive definite (near any stable
@@ -348,12 +358,19 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     // Expansion: Phi(a) ~ value + slope a + c a^2 through Phi(1) has its minimum at -slope/(2c)
     // (none when c <= 0). In the tail of a step where the cloth buckles, Newton otherwise creeps
     // along the buckling mode by the same small full step iteration after iteration.
+    // With contact in the solve the stretch stops where the contact bounds it along dx; the
+    // pairs then found cover the segment to the stretched point, which holds the trial point.
     bool stretched = false;
-    if (alpha == 1.0 && !last_step && settings.max_step_expansion > 1.0 && contact_ == nullptr) {
+    if (alpha == 1.0 && !last_step && settings.max_step_expansion > 1.0) {
       const double c = trial_value - value - slope;
       const double minimum = c > 0.0 ? -slope / (2.0 * c) : settings.max_step_expansion;
-      if (minimum > 1.5) {
-        const double stretch = std::min(minimum, settings.max_step_expansion);
+      double stretch = std::min(minimum, settings.max_step_expansion);
+      if (minimum > 1.5 && contact_ != nullptr && !pins_moving()) {
+        trial_step_ = stretch * dx_;
+        const Eigen::Map<const Positions> stretched_step(trial_step_.data(), 3, num_vertices_);
+        stretch *= contact_->max_step(x, stretched_step);
+      }
+      if (minimum > 1.5 && stretch > 1.0 && (contact_ == nullptr || !pins_moving())) {
         x.noalias() += stretch * step;  // x is free: the fallback is trial_
         const double stretched_value =
             incremental_potential(model, gravity, x, h, nullptr, /*assemble=*/false, /*project=*/false);

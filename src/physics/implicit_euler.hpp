@@ -153,6 +153,7 @@ class ImplicitEulerSolver {
   SolveContact* contact_ = nullptr;             // during step()
   ContactBlocks contact_blocks_;                // its Hessian at x_linearized_
   bool contact_coupled_ = false;                // contact_blocks_ has blocks off the pattern
+  bool cholesky_in_use_ = false;                // during step(): the matrix alone is solved
   Positions contact_gradient_;                  // its gradient at the last evaluation
   Positions pin_targets_;                       // with contact_: x_hat (where every pin ends)
   Positions zero_motion_;                       // zeros (3 x n)
@@ -173,6 +174,7 @@ class ImplicitEulerSolver {
   Positions best_x_;           // the iterate with the smallest residual so far
   Eigen::VectorXd free_mask_;  // 1 for free coordinates, 0 for pinned (3n)
   Eigen::VectorXd rhs_, dx_;
+  Eigen::VectorXd trial_step_;    // with contact: a stretched Newton step (3n)
   Eigen::VectorXd gravity_drop_;  // h^2 g on free coordinates: CG's guess on a step's first solve
   ConjugateGradientSolver cg_;
   SupernodalCholesky cholesky_;

@@ -1,9 +1,12 @@
 #include "physics/solve_contact.hpp"
+
+#include <cmath>
+
 #include "physics/sparse_hessian.hpp"
 
 namespace weft {
 
-bool ContactBlocks::assemble(SparseHessian& hessian) {
+bool ContactBlocks::assemble(SparseHessian& hessian, bool bound_off_pattern) {
   off_pattern.clear();
   for (size_t c = 0; c < blocks.size(); ++c) {
     const std::array<int, 4>& v = vertices[c];
@@ -13,8 +16,14 @@ bool ContactBlocks::assemble(SparseHessian& hessian) {
       hessian.add_vertex_block(v[j], (w[j] * w[j]) * blocks[c]);
       for (int k = j + 1; k < 4; ++k) {
         if (v[k] < 0) continue;
-        if (!hessian.add_block_pair(v[j], v[k], (w[j] * w[k]) * blocks[c]))
+        if (hessian.add_block_pair(v[j], v[k], (w[j] * w[k]) * blocks[c])) continue;
+        if (bound_off_pattern) {
+          const Mat3 bound = std::abs(w[j] * w[k]) * blocks[c];
+          hessian.add_vertex_block(v[j], bound);
+          hessian.add_vertex_block(v[k], bound);
+        } else {
           off_pattern.push_back({static_cast<int>(c), j, k});
+        }
       }
     }
   }

@@ -36,7 +36,13 @@ struct ContactBlocks {
   // Adds every block w_j w_k K the pattern holds to the matrix (the diagonal ones, and those
   // between vertices of one element: a cloth edge against a collider's) and lists the rest in
   // off_pattern; returns whether there are any (then CG needs add_coupling_product).
-  bool assemble(SparseHessian& hessian);
+  //
+  // With `bound_off_pattern` (a direct solver, which sees the matrix alone) an off-pattern block
+  // is not listed but bounded on the diagonal: |w_j w_k| K joins blocks j and k. The matrix alone
+  // keeps only some of a contact's blocks, which is indefinite in general (a pair's Hessian
+  // (w w^T) (x) K is PSD only whole); [a^2 + |ab|, 0; 0, b^2 + |ab|] (x) K - [a^2, ab; ab, b^2] (x) K
+  // is PSD, so the bounded matrix is PSD and at least the contact Hessian.
+  bool assemble(SparseHessian& hessian, bool bound_off_pattern = false);
   // y += (the off_pattern blocks) p over the vertices where `free` is 1 (3n vectors).
   void add_coupling_product(const Eigen::VectorXd& free, const Eigen::VectorXd& p, Eigen::VectorXd& y) const;
 };

@@ -2,6 +2,8 @@
 
 #include <random>
 
+#include <Eigen/Eigenvalues>
+
 #include "physics/solve_contact.hpp"
 #include "physics/sparse_hessian.hpp"
 
@@ -76,6 +78,52 @@ TEST(ContactBlocks, MatrixAndCouplingProductTogetherAreTheWholeContactHessian) {
   contacts.add_coupling_product(free, p, y);
   y.segment<3>(9).setZero();  // the pinned vertex's identity row
   EXPECT_LT((y - reference * p).norm(), 1e-12 * (reference * p).norm());
+}
+
+TEST(ContactBlocks, BoundedOffPatternBlocksLeaveThePositiveSemidefiniteMatrixAboveTheContactHessian) {
+  // Triangles (0, 1, 2) and (2, 3, 4), and an edge-edge contact between edge (1, 2) and edge
+  // (3, 5): the pattern holds its blocks (1, 2) and (2, 3) but not (1, 3), so the in-pattern part
+  // of (w w^T) (x) K alone is indefinite. Bounded, the matrix is PSD and at least the whole
+  // contact Hessian.
+  const auto two_triangles = [] {
+    SparseHessian hessian;
+    hessian.begin_pattern(6);
+    Eigen::Matrix<int, 3, Eigen::Dynamic> triangles(3, 2);
+    triangles << 0, 2, 1, 3, 2, 4;
+    hessian.add_stencil<3>(triangles);
+    hessian.finish_pattern();
+    hessian.set_zero();
+    return hessian;
+  };
+  const Vec3 n = Vec3(0.2, -0.5, 1.0).normalized();
+  ContactBlocks contacts;
+  contacts.vertices = {{1, 2, 3, 5}};
+  contacts.weights = {{0.6, 0.4, -0.7, -0.3}};
+  contacts.blocks = {n * n.transpose()};
+  Eigen::MatrixXd whole = Eigen::MatrixXd::Zero(18, 18);
+  for (int j = 0; j < 4; ++j) {
+    for (int k = 0; k < 4; ++k) {
+      whole.block<3, 3>(3 * contacts.vertices[0][j], 3 * contacts.vertices[0][k]) +=
+          contacts.weights[0][j] * contacts.weights[0][k] * contacts.blocks[0];
+    }
+  }
+  const auto smallest_eigenvalue = [](const Eigen::MatrixXd& m) {
+    return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(m, Eigen::EigenvaluesOnly).eigenvalues()(0);
+  };
+  SparseHessian unbounded = two_triangles();
+  ASSERT_TRUE(contacts.assemble(unbounded));
+  unbounded.finish_assembly();
+  EXPECT_LT(smallest_eigenvalue(Eigen::MatrixXd(unbounded.matrix())),
+            -1e-2);  // what a direct solver would see
+
+  SparseHessian bounded = two_triangles();
+  EXPECT_FALSE(contacts.assemble(bounded, /*bound_off_pattern=*/true));
+  EXPECT_TRUE(contacts.off_pattern.empty());
+  bounded.finish_assembly();
+  const Eigen::MatrixXd matrix = Eigen::MatrixXd(bounded.matrix());
+  EXPECT_GT(smallest_eigenvalue(matrix), -1e-12);
+  EXPECT_GT(smallest_eigenvalue(matrix - whole), -1e-12);
+  EXPECT_LT((matrix - matrix.transpose()).norm(), 1e-15);
 }
 
 }  // namespace

@@ -228,6 +228,33 @@ TEST(BarrierResponse, ImpactAt20MetresASecondNeedsNoStrainLimit) {
   }
 }
 
+TEST(BarrierResponse, StretchedStepsStayCleanAndSaveIterations) {
+  // A cloth folding over the sphere at h = 1/90 buckles at its free edges, where full Newton
+  // steps creep along the buckling mode. Stretching them (ImplicitEulerSettings::
+  // max_step_expansion), only as far as the contact bound allows, keeps every frame clean and
+  // takes fewer iterations than full steps alone.
+  int iterations[2] = {0, 0};
+  for (const int stretch : {0, 1}) {
+    SCOPED_TRACE(stretch == 1 ? "stretched" : "full steps only");
+    const SceneDesc scene =
+        load_scene_file(source_dir + "/scenes/drape_sphere.json",
+                        {"cloths.0.grid.resolution=[16,16]", "cloths.0.transform.translation=[0,0.65,0]",
+                         "collision.response=\"barrier\"", "collision.strain_limit=0",
+                         "solver.time_step=0.011111111111111112", "solver.newton.max_iterations=200"});
+    World world = build_world(scene);
+    world.settings.implicit.max_step_expansion = stretch == 1 ? 4.0 : 1.0;
+    const testing::SceneInvariants invariants(world);
+    for (int step = 0; step < 45; ++step) {
+      world.step();
+      iterations[stretch] += world.last_step_stats().newton_iterations;
+      EXPECT_EQ(world.last_step_stats().unconverged_steps, 0) << "step " << step;
+      const testing::InvariantReport report = invariants.check(world);
+      ASSERT_TRUE(report.ok()) << "step " << step << ": " << report.first;
+    }
+  }
+  EXPECT_LT(iterations[1], iterations[0]);
+}
+
 TEST(BarrierResponse, SameBytesOnOneAndTwoThreads) {
   std::vector<Positions> ends;
   for (const int threads : {1, 2}) {
