@@ -111,12 +111,20 @@ void SparseHessian::add_vertex_block(int vertex, const Mat3& block) {
 }
 
 bool SparseHessian::add_block_pair(int a, int b, const Mat3& block) {
-  const std::vector<int>& columns = block_columns_[a];
-  if (!std::binary_search(columns.begin(), columns.end(), b)) return false;
+  // One search in each block row (the pattern is symmetric): block (a, b) is the position_ab-th
+  // of row a, block (b, a) the position_ba-th of row b.
+  const std::vector<int>& columns_a = block_columns_[a];
+  const auto found = std::lower_bound(columns_a.begin(), columns_a.end(), b);
+  if (found == columns_a.end() || *found != b) return false;
+  const std::vector<int>& columns_b = block_columns_[b];
+  const int position_ab = static_cast<int>(found - columns_a.begin());
+  const int position_ba =
+      static_cast<int>(std::lower_bound(columns_b.begin(), columns_b.end(), a) - columns_b.begin());
+  const int* starts = matrix_.outerIndexPtr();
   double* values = matrix_.valuePtr();
   for (int r = 0; r < 3; ++r) {
-    double* ab = values + block_row_start(a, b, r);
-    double* ba = values + block_row_start(b, a, r);
+    double* ab = values + starts[3 * a + r] + 3 * position_ab;
+    double* ba = values + starts[3 * b + r] + 3 * position_ba;
     for (int c = 0; c < 3; ++c) {
       ab[c] += block(r, c);
       ba[c] += block(c, r);
