@@ -18,6 +18,7 @@
 #include <string>
 
 #include "app/progress.hpp"
+#include "app/world_tangles.hpp"
 #include "core/error.hpp"
 #include "io/install_paths.hpp"
 #include "render/orbit_camera.hpp"
@@ -325,6 +326,13 @@ void place_camera(OrbitCamera& camera, const SceneView& scene_view, const World&
   if (scene_view.distance > 0.0) camera.set_distance(scene_view.distance);
 }
 
+// A loaded or reset scene's first frame, checked; a tangled start is said on stderr.
+void say_start_tangles(const SimulationSession& session) {
+  WorldTangles tangles;
+  const TangleReport report = tangles.check(session.world());
+  say_if_tangled_at_start(session.scene_path(), report, tangles.input());
+}
+
 // Runs the window until it is closed, or draws one screenshot. Returns the exit code.
 int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptions& options,
                const std::string& shader_dir) {
@@ -429,6 +437,7 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
         state.view = view_options_from(options, session.scene().view);
         place_camera(camera, session.scene().view, session.world(), viewport.aspect());
       }
+      if (session.generation() != shown_generation) say_start_tangles(session);
       meshes = show_world(renderer, session.world(), state.view);
       shown_generation = session.generation();
     } else {
@@ -502,6 +511,7 @@ int run_viewer(const ViewerOptions& options) {
     std::fprintf(stderr, "weft: %s\n", error.what());
     return 2;
   }
+  say_start_tangles(*session);
 
   // Installed (PREFIX/bin/weft beside PREFIX/share/weft/shaders), else the source tree built from.
   std::string shader_dir;

@@ -2,7 +2,7 @@
 // inputs, hand-built touching / crossing / coplanar / barely separated triangle pairs,
 // agreement with a floating-point reference on generic random triangles, sweep versus brute
 // force on random soups, and grids that do or do not pass through themselves.
-#include "core/intersection_check.hpp"
+#include "check/intersection_check.hpp"
 
 #include <gtest/gtest.h>
 
