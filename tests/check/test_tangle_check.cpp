@@ -34,7 +34,7 @@ TEST(TangleCheck, CrossingClothsAreCountedNamedAndPlaced) {
   EXPECT_EQ(report.surface_pairs[0].surface_b, 1);
   EXPECT_EQ(describe_tangles(report, input),
             "cloths \"flat\" and \"upright\": 1 intersecting triangle pair (first: triangles 0 and 0 near "
-            "(0.00, 0.00, 0.08))");
+            "(0.00, 0.00, -0.08))");
 }
 
 TEST(TangleCheck, ColliderPairsAmongThemselvesDoNotCountButClothThroughColliderDoes) {
