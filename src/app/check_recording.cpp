@@ -276,6 +276,7 @@ int run_check(const CheckOptions& options) {
     Recording recording = read_recording(options.dir);
     int tangled_frames = 0, first_tangled = -1, most_pairs = 0, most_inside = 0;
     std::vector<Positions> posed(recording.colliders.size());
+    std::vector<std::vector<char>> held;  // decided at frame 0
     for (int frame = 0; frame < recording.frames; ++frame) {
       const std::vector<Positions> positions = cloth_positions(recording, frame);
       TangleInput input;
@@ -295,6 +296,8 @@ int run_check(const CheckOptions& options) {
       }
       TangleReport report;
       try {
+        if (frame == 0) held = solids_holding_cloths(input);
+        input.held = held;
         report = check_tangles(input);
       } catch (const std::invalid_argument& error) {
         throw IoError((recording.dir / "recording.json").string() + ": frame " + std::to_string(frame) +

@@ -21,6 +21,11 @@ TangleReport WorldTangles::check(const World& world) {
       input_.solid_collider.push_back(k);
     }
   }
+  if (!held_decided_) {
+    held_ = solids_holding_cloths(input_);
+    held_decided_ = true;
+  }
+  input_.held = held_;
   return check_tangles(input_);
 }
 

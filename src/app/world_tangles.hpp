@@ -15,6 +15,8 @@ namespace weft {
 // Checks a World between steps; keeps the posed colliders' positions between calls.
 class WorldTangles {
  public:
+  // Checks the world's state; the first call decides which solids hold which cloths
+  // (solids_holding_cloths), and later calls keep that.
   TangleReport check(const World& world);
   // What the last check read (names, surfaces, solids), for describe_tangles.
   const TangleInput& input() const { return input_; }
@@ -22,6 +24,8 @@ class WorldTangles {
  private:
   std::vector<Positions> collider_positions_;
   TangleInput input_;
+  std::vector<std::vector<char>> held_;
+  bool held_decided_ = false;
 };
 
 // The first frame's check said on stderr, when it is tangled: "weft: SOURCE: starts tangled: ...".

@@ -113,6 +113,10 @@ int orient3d_exact_differences(const Vec3& ad, const Vec3& bd, const Vec3& cd) {
 // 24 terms, each a product of three coordinates (the column of ones contributes 1), summed
 // exactly; no difference of inputs is ever rounded.
 int orient3d_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  // Four points with one coordinate in common lie in an axis-aligned plane (a flat cloth).
+  for (int axis = 0; axis < 3; ++axis) {
+    if (a[axis] == d[axis] && b[axis] == d[axis] && c[axis] == d[axis]) return 0;
+  }
   Vec3 ad, bd, cd;
   bool exact = true;
   for (int axis = 0; axis < 3; ++axis) {
@@ -136,6 +140,8 @@ int orient3d_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
 
 // Exact orient2d the same way: the 3 x 3 determinant with rows (p, 1), 6 products of two.
 int orient2d_exact(const Vec2& a, const Vec2& b, const Vec2& c) {
+  // Three points with one coordinate in common lie on an axis-parallel line.
+  if ((a.x() == c.x() && b.x() == c.x()) || (a.y() == c.y() && b.y() == c.y())) return 0;
   // From exact differences: (a - c).x (b - c).y - (a - c).y (b - c).x, its two products exact.
   double acx, acy, bcx, bcy;
   if (exact_difference(a.x(), c.x(), acx) && exact_difference(a.y(), c.y(), acy) &&

@@ -42,11 +42,17 @@ void count_intersections(const TangleInput& input, TangleReport& report) {
   for (auto& [key, group] : groups) report.surface_pairs.push_back(group);
 }
 
-// Cloth vertices strictly inside each solid.
+bool is_held(const TangleInput& input, int cloth, int solid) {
+  return cloth < static_cast<int>(input.held.size()) && solid < static_cast<int>(input.held[cloth].size()) &&
+         input.held[cloth][solid] != 0;
+}
+
+// Cloth vertices strictly inside each solid that does not hold the cloth.
 void count_vertices_inside(const TangleInput& input, TangleReport& report) {
   for (int c = 0; c < static_cast<int>(input.cloths.size()); ++c) {
     const Positions& x = *input.cloths[c].positions;
     for (int s = 0; s < static_cast<int>(input.solids.size()); ++s) {
+      if (is_held(input, c, s)) continue;
       VerticesInsideSolid found;
       found.cloth = c;
       found.collider = input.solid_collider[s];
@@ -66,6 +72,19 @@ void count_vertices_inside(const TangleInput& input, TangleReport& report) {
 }
 
 }  // namespace
+
+std::vector<std::vector<char>> solids_holding_cloths(const TangleInput& input) {
+  std::vector<std::vector<char>> held(input.cloths.size(), std::vector<char>(input.solids.size(), 0));
+  for (size_t c = 0; c < input.cloths.size(); ++c) {
+    const Positions& x = *input.cloths[c].positions;
+    for (size_t s = 0; s < input.solids.size(); ++s) {
+      Eigen::Index inside = 0;
+      for (Eigen::Index i = 0; i < x.cols(); ++i) inside += reference_signed_distance(input.solids[s], x.col(i)) < 0.0;
+      held[c][s] = 2 * inside > x.cols();
+    }
+  }
+  return held;
+}
 
 TangleReport check_tangles(const TangleInput& input) {
   TangleReport report;

@@ -25,7 +25,15 @@ struct TangleInput {
   std::vector<NamedSurface> colliders;
   std::vector<AnalyticSolid> solids;  // one per collider with an inside
   std::vector<int> solid_collider;    // per solid: its collider's index in `colliders`
+  // Per cloth, per solid: 1 where the solid holds the cloth (a drum), whose vertices inside it
+  // then do not count; empty: none is held.
+  std::vector<std::vector<char>> held;
 };
+
+// Which solids hold which cloths: those that more than half of a cloth's vertices are inside.
+// A run decides it from its first state: a cloth placed in a drum is held by it, one merely
+// dipping into a sphere is not.
+std::vector<std::vector<char>> solids_holding_cloths(const TangleInput& input);
 
 // Intersecting triangle pairs between two surfaces (or within one: surface_a == surface_b).
 // Surfaces are numbered cloths first, then colliders.

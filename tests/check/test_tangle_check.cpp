@@ -101,5 +101,28 @@ TEST(TangleCheck, VerticesInsideASolidAreCountedWithTheDeepest) {
             std::string::npos);
 }
 
+TEST(TangleCheck, AClothHeldInsideASolidIsNotCountedAsInsideIt) {
+  // Three of four vertices inside the ball: the ball holds the cloth (a drum), so none count.
+  Positions x(3, 4);
+  x << 0, 0.1, 0.2, 0.9,  //
+      0, 0, 0, 0,         //
+      0, 0, 0, 0;
+  Triangles triangles(3, 0);
+  AnalyticSolid ball;
+  ball.kind = SolidKind::sphere;
+  ball.radius = 0.5;
+  const OneTriangle surface(Vec3(5, 5, 5), Vec3(6, 5, 5), Vec3(5, 6, 5));
+  TangleInput input;
+  input.cloths = {{"held", &x, &triangles}};
+  input.colliders = {{"drum", &surface.x, &surface.triangles}};
+  input.solids = {ball};
+  input.solid_collider = {0};
+  EXPECT_EQ(check_tangles(input).vertices_inside_colliders, 3);
+  input.held = solids_holding_cloths(input);
+  ASSERT_EQ(input.held.size(), 1u);
+  EXPECT_EQ(input.held[0], std::vector<char>{1});
+  EXPECT_TRUE(check_tangles(input).clean());
+}
+
 }  // namespace
 }  // namespace weft
