@@ -27,10 +27,12 @@ class BoxTree {
  public:
   explicit BoxTree(const std::vector<CheckBox>& boxes) : boxes_(boxes), order_(boxes.size()) {
     std::iota(order_.begin(), order_.end(), 0);
+    nodes_.reserve(2 * boxes.size() / leaf_size + 1);
     if (!boxes.empty()) build(0, static_cast<int>(boxes.size()));
   }
 
   std::vector<std::pair<int, int>> pairs() {
+    found_.reserve(8 * boxes_.size());  // a mesh's triangle touches about a dozen neighbours' boxes
     if (!nodes_.empty()) self_pairs(0);
     return std::move(found_);
   }

@@ -341,7 +341,10 @@ int corner_index(const CheckedMesh& mesh, int triangle, int k) { return (*mesh.t
 // its corner's cone, so they meet beyond v iff the cones do: iff a side ray of one cone lies in
 // the other (the common cone, when not {v}, is bounded by such a ray; both angles are below pi).
 bool meet_beyond_shared_vertex(const Vec3& v, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  if (orient3d(v, a, b, c) == 0 && orient3d(v, a, b, d) == 0) {
+  // c and d strictly on one side of the plane of (v, a, b): (v, c, d) meets it at v alone.
+  const int side_c = orient3d(v, a, b, c), side_d = orient3d(v, a, b, d);
+  if (side_c * side_d > 0) return false;
+  if (side_c == 0 && side_d == 0) {
     const int axis = non_degenerate_drop_axis(v, a, b);
     if (axis >= 0) {
       const Vec2 v2 = project(v, axis), c2 = project(c, axis), d2 = project(d, axis);
@@ -507,6 +510,10 @@ std::vector<TriangleIntersection> find_triangle_intersections(const std::vector<
   // pairs whose boxes overlap, and only those are tested.
   std::vector<CheckBox> boxes;
   std::vector<std::pair<int, int>> triangle_of_box;  // (mesh, triangle)
+  Eigen::Index num_triangles = 0;
+  for (const CheckedMesh& mesh : meshes) num_triangles += mesh.triangles->cols();
+  boxes.reserve(num_triangles);
+  triangle_of_box.reserve(num_triangles);
   for (int m = 0; m < static_cast<int>(meshes.size()); ++m) {
     for (int t = 0; t < static_cast<int>(meshes[m].triangles->cols()); ++t) {
       const Vec3 a = corner(meshes[m], t, 0), b = corner(meshes[m], t, 1), c = corner(meshes[m], t, 2);
