@@ -77,12 +77,10 @@ T field(const nlohmann::json& object, const char* key, const fs::path& file, con
   }
 }
 
-// run.json: the frames written and the scene's colliders.
+// run.json: the scene's colliders.
 void read_run(Recording& recording) {
   const fs::path path = recording.dir / "run.json";
   const nlohmann::json run = read_json(path, "the run.json of a headless recording");
-  recording.frames = field<int>(run, "frames_written", path, "a whole number of frames");
-  if (recording.frames < 0) throw IoError(path.string() + ": \"frames_written\": expected a number >= 0");
   if (!run.contains("scene") || !run["scene"].is_object()) {
     throw IoError(path.string() + ": \"scene\": expected the resolved scene as a JSON object");
   }
@@ -132,11 +130,6 @@ void read_manifest(Recording& recording) {
         throw IoError(cache.string() + ": expected " + std::to_string(cloth.vertices) +
                       " points (recording.json), found " + std::to_string(cloth.cache.num_points));
       }
-      if (static_cast<int>(cloth.cache.samples.size()) < recording.frames) {
-        throw IoError(cache.string() + ": expected " + std::to_string(recording.frames) +
-                      " samples (run.json's frames_written), found " +
-                      std::to_string(cloth.cache.samples.size()));
-      }
     } else if (recording.frame_file_pattern.empty()) {
       throw IoError(path.string() + ": cloth \"" + cloth.name +
                     "\": expected a \"point_cache\", or \"frame_files\" naming OBJ frames");
@@ -171,6 +164,28 @@ void read_manifest(Recording& recording) {
         recorded.surface.triangles(c, t) = triangles[t][c];
       }
     }
+  }
+}
+
+// The frames every cloth has: the fewest samples of a cache (a run killed mid-frame leaves some
+// caches a sample ahead of others), or the OBJ frame files from frame_0000.obj on.
+void count_frames(Recording& recording) {
+  const fs::path manifest = recording.dir / "recording.json";
+  if (recording.cloths.empty()) throw IoError(manifest.string() + ": \"cloths\": expected at least one cloth");
+  if (recording.cloths.front().cache.samples.empty() && !recording.frame_file_pattern.empty()) {
+    char name[64];
+    for (;; ++recording.frames) {
+      std::snprintf(name, sizeof name, recording.frame_file_pattern.c_str(), recording.frames);
+      if (!fs::exists(recording.dir / name)) break;
+    }
+  } else {
+    recording.frames = static_cast<int>(recording.cloths.front().cache.samples.size());
+    for (const RecordedCloth& cloth : recording.cloths) {
+      recording.frames = std::min(recording.frames, static_cast<int>(cloth.cache.samples.size()));
+    }
+  }
+  if (recording.frames == 0) {
+    throw IoError(manifest.string() + ": expected at least frame 0 in the point caches or frame files, found none");
   }
 }
 
@@ -226,6 +241,7 @@ Recording read_recording(const fs::path& dir) {
   recording.dir = dir;
   read_run(recording);
   read_manifest(recording);
+  count_frames(recording);
   read_placements(recording);
   return recording;
 }
