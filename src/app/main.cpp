@@ -109,8 +109,10 @@ int run(int argc, char** argv) {
   app.add_option("--screenshot", screenshot, "Viewer: simulate --frames frames, save a PNG and exit");
   app.add_option("--record", record_dir, "Viewer: save every drawn frame as DIR/frame_NNNNN.png");
   app.add_option("--show", show,
-                 "Viewer display switches, over the scene's \"view\": boxes, contacts, wireframe, strain, pins, grid, "
-                 "colliders, cutaway, panels (the ImGui panels in saved pictures too), each with a no- form "
+                 "Viewer display switches, over the scene's \"view\": boxes, contacts, wireframe, strain, "
+                 "pins, grid, "
+                 "colliders, cutaway, panels (the ImGui panels in saved pictures too), tangles (intersecting "
+                 "triangle pairs), each with a no- form "
                  "(no-contacts) that turns it off")
       ->delimiter(',')
       ->check(CLI::IsMember(weft::display_switch_names));

@@ -38,6 +38,7 @@ void count_intersections(const TangleInput& input, TangleReport& report) {
                           corner_mean(surface(input, hit.mesh_b), hit.triangle_b));
     }
     ++report.intersecting_pairs;
+    report.pairs.push_back(hit);
   }
   for (auto& [key, group] : groups) report.surface_pairs.push_back(group);
 }

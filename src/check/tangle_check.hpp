@@ -60,6 +60,7 @@ struct TangleReport {
   int vertices_inside_colliders = 0;             // (cloth vertex, collider) pairs with the vertex inside
   std::vector<SurfacePairTangle> surface_pairs;  // in (surface_a, surface_b) order
   std::vector<VerticesInsideSolid> inside;       // in (cloth, collider) order
+  std::vector<TriangleIntersection> pairs;       // every intersecting pair (meshes numbered as surfaces)
   bool clean() const { return intersecting_pairs == 0 && vertices_inside_colliders == 0; }
 };
 
