@@ -307,6 +307,16 @@ ViewOptions view_options_from(const ViewerOptions& options, const SceneView& sce
   return view;
 }
 
+// Whether the display switches turn the tangle marks off ("no-tangles" after any "tangles"),
+// which a scene that starts tangled otherwise turns on.
+bool tangles_switched_off(const ViewerOptions& options, const SceneView& scene_view) {
+  bool off = false;
+  for (const std::string& item : display_switches(options, scene_view)) {
+    if (item == "tangles" || item == "no-tangles") off = item == "no-tangles";
+  }
+  return off;
+}
+
 // Whether saved pictures include the panels: "panels" asked for, or a panel to open (asking for a
 // panel means wanting to see it), unless "no-panels" comes last.
 bool panels_in_pictures(const ViewerOptions& options, const SceneView& scene_view) {
@@ -381,7 +391,7 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
   Renderer renderer(shader_dir);
   ViewerState state;
   state.view = view_options_from(options, session.scene().view);
-  state.view.tangles = state.view.tangles || starts_tangled;
+  if (starts_tangled && !tangles_switched_off(options, session.scene().view)) state.view.tangles = true;
   TangleMarks tangle_marks;
   state.panels_in_pictures = panels_in_pictures(options, session.scene().view);
   state.scene_files = list_scene_files(std::filesystem::path(session.scene_path()).parent_path().string());
@@ -480,7 +490,10 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
         state.view = view_options_from(options, session.scene().view);
         place_camera(camera, session.scene().view, session.world(), viewport.aspect());
       }
-      if (session.generation() != shown_generation && say_start_tangles(session)) state.view.tangles = true;
+      if (session.generation() != shown_generation && say_start_tangles(session) &&
+          !tangles_switched_off(options, session.scene().view)) {
+        state.view.tangles = true;
+      }
       meshes = show_world(renderer, session.world(), state.view);
       shown_generation = session.generation();
     } else {
