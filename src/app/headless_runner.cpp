@@ -42,8 +42,7 @@ constexpr const char* stats_header =
     "linear_iterations,accepted_steps,rejected_steps,yielded_triangles,move_colliders_ms,integrate_ms,"
     "collisions_ms,rest_update_ms,record_ms,wall_ms,steps,broad_phase_ms,narrow_phase_ms,response_ms,step_ms,"
     "vertex_face_candidates,edge_edge_candidates,proximity_contacts,ccd_impulses,impact_zone_vertices,"
-    "collisions_clean,strain_limited_edges,newton_residual,unconverged_steps,external_work,dissipated_"
-    "damping,"
+    "collisions_clean,strain_limited_edges,newton_residual,unconverged_steps,external_work,dissipated_damping,"
     "dissipated_integrator,dissipated_contact,dissipated_plastic,budget_error,threads,held_pins,"
     "edges_over_strain_limit,collision_correction_max,collision_corrected_vertices,dissipated_residual,"
     "substeps,intersecting_pairs,vertices_inside_colliders,check_ms";
@@ -150,11 +149,13 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
     const std::vector<double>& first = table.front();
     const std::vector<double>& last = table.back();
     summary["simulated_seconds"] = last[column("time")];
+    const auto count = [](double value) { return static_cast<long long>(value); };
     summary["tangles"] = {
         {"first_frame",
-         {{"intersecting_pairs", first[column("intersecting_pairs")]},
-          {"vertices_inside_colliders", first[column("vertices_inside_colliders")]}}},
-        {"max", {{"intersecting_pairs", pairs_max}, {"vertices_inside_colliders", inside_max}}}};
+         {{"intersecting_pairs", count(first[column("intersecting_pairs")])},
+          {"vertices_inside_colliders", count(first[column("vertices_inside_colliders")])}}},
+        {"max",
+         {{"intersecting_pairs", count(pairs_max)}, {"vertices_inside_colliders", count(inside_max)}}}};
     summary["energy"] = {
         {"initial_total", first[column("kinetic_energy")] + first[column("potential_energy")]},
         {"final_kinetic", last[column("kinetic_energy")]},
