@@ -11,14 +11,19 @@
 #include <exception>
 #include <string>
 
-#include "core/intersection_check.hpp"
+#include "check/intersection_check.hpp"
+#include "check/solid_distance.hpp"
 #include "io/obj_io.hpp"
 
 namespace {
 
-// The drape scene's sphere (scenes/drape_sphere.json, bench/peers/README.md).
-const weft::Vec3 sphere_center(0.0, 0.0, 0.0);
-constexpr double sphere_radius = 0.5;
+// The drape scene's sphere (scenes/drape_sphere.json, bench/peers/README.md): centre 0, radius 0.5.
+weft::AnalyticSolid drape_sphere() {
+  weft::AnalyticSolid sphere;
+  sphere.kind = weft::SolidKind::sphere;
+  sphere.radius = 0.5;
+  return sphere;
+}
 // Depth past which a vertex counts as through the sphere: bench/peers/README.md's 1 cm.
 constexpr double deep_inside = 0.01;
 
@@ -39,8 +44,9 @@ MeshFigures measure(const weft::TriangleMesh& mesh) {
   figures.triangles = mesh.num_triangles();
   figures.min_y = mesh.positions.row(1).minCoeff();
   figures.max_y = mesh.positions.row(1).maxCoeff();
+  const weft::AnalyticSolid sphere = drape_sphere();
   for (int v = 0; v < mesh.num_vertices(); ++v) {
-    const double depth = sphere_radius - (mesh.positions.col(v) - sphere_center).norm();
+    const double depth = -weft::reference_signed_distance(sphere, mesh.positions.col(v));
     if (depth <= 0.0) continue;
     ++figures.inside_any;
     if (depth > deep_inside) ++figures.inside_1cm;

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "app/progress.hpp"
+#include "app/world_tangles.hpp"
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
@@ -44,7 +45,7 @@ constexpr const char* stats_header =
     "collisions_clean,strain_limited_edges,newton_residual,unconverged_steps,external_work,dissipated_damping,"
     "dissipated_integrator,dissipated_contact,dissipated_plastic,budget_error,threads,held_pins,"
     "edges_over_strain_limit,collision_correction_max,collision_corrected_vertices,dissipated_residual,"
-    "substeps";
+    "substeps,intersecting_pairs,vertices_inside_colliders,check_ms";
 
 volatile std::sig_atomic_t stop_requested = 0;
 extern "C" void request_stop(int) { stop_requested = 1; }
@@ -65,8 +66,9 @@ double ms_since(Clock::time_point start) {
 
 // `flows` are summed from frame 0; budget_error = energy now + dissipated - energy at frame 0 -
 // external work (sim/energy_ledger.hpp).
-std::string stats_line(int frame, double time, const Energies& e, double initial_energy, const EnergyFlows& flows,
-                       const StepStats& s, double record_ms, double wall_ms) {
+std::string stats_line(int frame, double time, const Energies& e, double initial_energy,
+                       const EnergyFlows& flows, const StepStats& s, const TangleReport& tangles,
+                       double check_ms, double record_ms, double wall_ms) {
   const double dissipated = flows.dissipated();
   const double budget_error = e.total() + dissipated - initial_energy - flows.external_work;
   std::ostringstream out;
@@ -84,7 +86,8 @@ std::string stats_line(int frame, double time, const Energies& e, double initial
       << flows.integrator << ',' << flows.contact << ',' << flows.plastic << ',' << budget_error << ','
       << (s.steps > 0 ? static_cast<double>(s.thread_steps) / s.steps : 0.0) << ',' << s.held_pins << ','
       << s.edges_over_strain_limit << ',' << s.largest_collision_correction << ','
-      << s.collision_corrected_vertices << ',' << flows.residual << ',' << s.substeps;
+      << s.collision_corrected_vertices << ',' << flows.residual << ',' << s.substeps << ','
+      << tangles.intersecting_pairs << ',' << tangles.vertices_inside_colliders << ',' << check_ms;
   return out.str();
 }
 
@@ -109,7 +112,11 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
   }
   double wall = 0.0, wall_max = 0.0, newton = 0.0, newton_max = 0.0, contacts_max = 0.0;
   double unconverged = 0.0, residual_max = 0.0, budget_error_max = 0.0, held_pins = 0.0, over_limit = 0.0;
-  double correction_max = 0.0;
+  double correction_max = 0.0, pairs_max = 0.0, inside_max = 0.0;
+  for (const std::vector<double>& row : table) {  // frame 0 too: a tangled start
+    pairs_max = std::max(pairs_max, row[column("intersecting_pairs")]);
+    inside_max = std::max(inside_max, row[column("vertices_inside_colliders")]);
+  }
   for (size_t r = 1; r < table.size(); ++r) {  // frame 0 is the initial state, not simulated
     wall += table[r][column("wall_ms")];
     wall_max = std::max(wall_max, table[r][column("wall_ms")]);
@@ -142,6 +149,13 @@ nlohmann::json summarise(const std::vector<std::string>& rows, const std::string
     const std::vector<double>& first = table.front();
     const std::vector<double>& last = table.back();
     summary["simulated_seconds"] = last[column("time")];
+    const auto count = [](double value) { return static_cast<long long>(value); };
+    summary["tangles"] = {
+        {"first_frame",
+         {{"intersecting_pairs", count(first[column("intersecting_pairs")])},
+          {"vertices_inside_colliders", count(first[column("vertices_inside_colliders")])}}},
+        {"max",
+         {{"intersecting_pairs", count(pairs_max)}, {"vertices_inside_colliders", count(inside_max)}}}};
     summary["energy"] = {
         {"initial_total", first[column("kinetic_energy")] + first[column("potential_energy")]},
         {"final_kinetic", last[column("kinetic_energy")]},
@@ -446,14 +460,20 @@ int Run::record_and_step() {
                  (out_ / checkpoint_file).c_str());
   }
 
+  WorldTangles tangles;
   const auto record = [&](int frame, const StepStats& steps, Clock::time_point frame_start) {
+    // The exact check of the frame's state; frame 0's is said when it is tangled.
+    const auto check_start = Clock::now();
+    const TangleReport report = tangles.check(world_);
+    const double check_ms = ms_since(check_start);
+    if (frame == 0) say_if_tangled_at_start(scene_file_, report, tangles.input());
     const auto record_start = Clock::now();
     recording.write_frame(frame, world_);
     const Energies energies = world_.energies();
     const double record_ms = ms_since(record_start);
     energy_flows_ += steps.energy_flows;
     stats_rows_.push_back(stats_line(frame, world_.time(), energies, initial_energy_, energy_flows_, steps,
-                                     record_ms, frame == 0 ? 0.0 : ms_since(frame_start)));
+                                     report, check_ms, record_ms, frame == 0 ? 0.0 : ms_since(frame_start)));
     stats_log_.append(stats_rows_.back());
     flush_newton_rows();
     frames_written_ = frame + 1;

@@ -1,5 +1,5 @@
-// weft: the viewer by default, a headless recording with --headless, and the `sweep` and
-// `plot` commands. This file only reads the command line and dispatches.
+// weft: the viewer by default, a headless recording with --headless, and the `sweep`, `plot`
+// and `check` commands. This file only reads the command line and dispatches.
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "app/check_recording.hpp"
 #include "app/headless_runner.hpp"
 #include "app/openmp_wait_policy.hpp"
 #include "app/plot.hpp"
@@ -108,8 +109,10 @@ int run(int argc, char** argv) {
   app.add_option("--screenshot", screenshot, "Viewer: simulate --frames frames, save a PNG and exit");
   app.add_option("--record", record_dir, "Viewer: save every drawn frame as DIR/frame_NNNNN.png");
   app.add_option("--show", show,
-                 "Viewer display switches, over the scene's \"view\": boxes, contacts, wireframe, strain, pins, grid, "
-                 "colliders, cutaway, panels (the ImGui panels in saved pictures too), each with a no- form "
+                 "Viewer display switches, over the scene's \"view\": boxes, contacts, wireframe, strain, "
+                 "pins, grid, "
+                 "colliders, cutaway, panels (the ImGui panels in saved pictures too), tangles (intersecting "
+                 "triangle pairs), each with a no- form "
                  "(no-contacts) that turns it off")
       ->delimiter(',')
       ->check(CLI::IsMember(weft::display_switch_names));
@@ -177,6 +180,14 @@ int run(int argc, char** argv) {
   CLI::App* plot = app.add_subcommand("plot", "Plot a run's (or a sweep's) stats.csv to PNG with gnuplot");
   plot->add_option("dir", plot_options.dir, "Run or sweep folder")->required();
 
+  weft::CheckOptions check_options;
+  CLI::App* check = app.add_subcommand(
+      "check",
+      "Check every frame of a headless recording for intersecting triangles and vertices inside "
+      "colliders; exit 0 all clean, 1 some frame tangled, 2 bad input");
+  check->add_option("dir", check_options.dir, "Recording folder (weft --headless SCENE --out DIR)")
+      ->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& help) {
@@ -192,6 +203,7 @@ int run(int argc, char** argv) {
   }
   if (sweep->parsed()) return weft::run_sweep(sweep_options);
   if (plot->parsed()) return weft::run_plot(plot_options);
+  if (check->parsed()) return weft::run_check(check_options);
   if (headless) {
     const bool resuming = !headless_options.resume_dir.empty();
     if (headless_options.out_dir.empty() && !resuming) {

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "app/progress.hpp"
+#include "app/world_tangles.hpp"
 #include "core/error.hpp"
 #include "io/install_paths.hpp"
 #include "render/orbit_camera.hpp"
@@ -301,8 +302,19 @@ ViewOptions view_options_from(const ViewerOptions& options, const SceneView& sce
     if (name == "grid") view.ground_grid = on;
     if (name == "colliders") view.colliders = on;
     if (name == "cutaway") view.cutaway = on;
+    if (name == "tangles") view.tangles = on;
   }
   return view;
+}
+
+// Whether the display switches turn the tangle marks off ("no-tangles" after any "tangles"),
+// which a scene that starts tangled otherwise turns on.
+bool tangles_switched_off(const ViewerOptions& options, const SceneView& scene_view) {
+  bool off = false;
+  for (const std::string& item : display_switches(options, scene_view)) {
+    if (item == "tangles" || item == "no-tangles") off = item == "no-tangles";
+  }
+  return off;
 }
 
 // Whether saved pictures include the panels: "panels" asked for, or a panel to open (asking for a
@@ -325,13 +337,62 @@ void place_camera(OrbitCamera& camera, const SceneView& scene_view, const World&
   if (scene_view.distance > 0.0) camera.set_distance(scene_view.distance);
 }
 
+// A loaded or reset scene's first frame, checked; a tangled start is said on stderr. Returns
+// whether it is tangled.
+bool say_start_tangles(const SimulationSession& session) {
+  WorldTangles tangles;
+  const TangleReport report = tangles.check(session.world());
+  say_if_tangled_at_start(session.scene_path(), report, tangles.input());
+  return !report.clean();
+}
+
+// The shown frame's intersecting triangle pairs, checked again only when the world has moved on
+// (or a vertex is being dragged), since the exact check costs about a millisecond per thousand
+// triangles.
+class TangleMarks {
+ public:
+  void add_to(DebugOverlay& overlay, const World& world, int generation, bool dragging) {
+    if (generation != checked_generation_ || world.time() != checked_time_ || dragging) {
+      if (generation != checked_generation_)
+        tangles_ = WorldTangles();  // a new start decides what holds what
+      report_ = tangles_.check(world);
+      checked_generation_ = generation;
+      checked_time_ = world.time();
+    }
+    const TangleInput& input = tangles_.input();
+    const int num_cloths = static_cast<int>(input.cloths.size());
+    const auto surface = [&](int index) -> const NamedSurface& {
+      return index < num_cloths ? input.cloths[index] : input.colliders[index - num_cloths];
+    };
+    const Color magenta(1.0f, 0.1f, 0.9f);
+    for (const TriangleIntersection& pair : report_.pairs) {
+      for (const auto& [mesh, triangle] :
+           {std::pair(pair.mesh_a, pair.triangle_a), std::pair(pair.mesh_b, pair.triangle_b)}) {
+        const NamedSurface& s = surface(mesh);
+        for (int k = 0; k < 3; ++k) {
+          overlay.add_line(s.positions->col((*s.triangles)(k, triangle)),
+                           s.positions->col((*s.triangles)((k + 1) % 3, triangle)), magenta);
+        }
+      }
+    }
+  }
+
+ private:
+  WorldTangles tangles_;
+  TangleReport report_;
+  int checked_generation_ = -1;
+  double checked_time_ = 0.0;
+};
+
 // Runs the window until it is closed, or draws one screenshot. Returns the exit code.
 int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptions& options,
-               const std::string& shader_dir) {
+               const std::string& shader_dir, bool starts_tangled) {
   ImGuiLayer imgui(window);
   Renderer renderer(shader_dir);
   ViewerState state;
   state.view = view_options_from(options, session.scene().view);
+  if (starts_tangled && !tangles_switched_off(options, session.scene().view)) state.view.tangles = true;
+  TangleMarks tangle_marks;
   state.panels_in_pictures = panels_in_pictures(options, session.scene().view);
   state.scene_files = list_scene_files(std::filesystem::path(session.scene_path()).parent_path().string());
   if (state.scene_files.empty()) state.scene_files.push_back(session.scene_path());
@@ -429,6 +490,10 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
         state.view = view_options_from(options, session.scene().view);
         place_camera(camera, session.scene().view, session.world(), viewport.aspect());
       }
+      if (session.generation() != shown_generation && say_start_tangles(session) &&
+          !tangles_switched_off(options, session.scene().view)) {
+        state.view.tangles = true;
+      }
       meshes = show_world(renderer, session.world(), state.view);
       shown_generation = session.generation();
     } else {
@@ -440,6 +505,8 @@ int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptio
     } else {
       build_overlay(overlay, session.world(), meshes, state.view, session.world().contacts());
     }
+    if (state.view.tangles)
+      tangle_marks.add_to(overlay, session.world(), session.generation(), mouse.drag().active());
     if (mouse.drag().active()) {
       const Cloth& cloth = session.world().cloths()[static_cast<size_t>(mouse.drag().cloth())];
       overlay.add_line(cloth.state.x.col(mouse.drag().vertex()), mouse.drag().target(), Color(1.0f, 1.0f, 1.0f));
@@ -502,6 +569,7 @@ int run_viewer(const ViewerOptions& options) {
     std::fprintf(stderr, "weft: %s\n", error.what());
     return 2;
   }
+  const bool starts_tangled = say_start_tangles(*session);
 
   // Installed (PREFIX/bin/weft beside PREFIX/share/weft/shaders), else the source tree built from.
   std::string shader_dir;
@@ -535,7 +603,7 @@ int run_viewer(const ViewerOptions& options) {
   }
 
   try {
-    return run_window(window.get(), *session, options, shader_dir);
+    return run_window(window.get(), *session, options, shader_dir, starts_tangled);
   } catch (const RenderError& error) {
     std::fprintf(stderr, "weft: %s\n", error.what());
     return 1;

@@ -17,9 +17,9 @@ namespace weft {
 using nlohmann::json;
 
 const std::vector<std::string> display_switch_names = {
-    "boxes",     "no-boxes",     "contacts", "no-contacts", "wireframe", "no-wireframe",
-    "strain",    "no-strain",    "pins",     "no-pins",     "grid",      "no-grid",
-    "colliders", "no-colliders", "cutaway",  "no-cutaway",  "panels",    "no-panels"};
+    "boxes",     "no-boxes",   "contacts", "no-contacts", "wireframe", "no-wireframe", "strain",
+    "no-strain", "pins",       "no-pins",  "grid",        "no-grid",   "colliders",    "no-colliders",
+    "cutaway",   "no-cutaway", "panels",   "no-panels",   "tangles",   "no-tangles"};
 
 namespace {
 

@@ -41,6 +41,8 @@ struct ViewOptions {
   bool colliders = true;
   bool cutaway = false;           // colliders without the faces turned to the camera: the inside of
                                   // a closed collider (a drum) shows through its near wall
+  bool tangles = false;           // the shown frame's intersecting triangle pairs (the viewer's exact
+                                  // check; on at the start of a scene that starts tangled)
 };
 
 // The renderer's meshes of one World, in the order of world.cloths() and world.colliders().

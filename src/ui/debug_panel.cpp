@@ -33,6 +33,8 @@ void draw_debug_panel(SimulationSession& session, ViewerState& state) {
   ImGui::SameLine();
   ImGui::SetNextItemWidth(120.0f);
   ImGui::SliderInt("depth", &view.box_depth, 0, 12);
+  ImGui::Checkbox("tangles", &view.tangles);
+  ImGui::SameLine();
   ImGui::Checkbox("contacts", &view.contacts);
   if (view.contacts) {
     float scale = static_cast<float>(view.impulse_scale);

@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "core/intersection_check.hpp"
+#include "check/intersection_check.hpp"
 #include "core/mesh_generators.hpp"
 
 namespace weft {

@@ -5,7 +5,7 @@
 
 #include <fstream>
 
-#include "core/intersection_check.hpp"
+#include "check/intersection_check.hpp"
 #include "core/topology.hpp"
 #include "io/scene_builder.hpp"
 #include "io/scene_file.hpp"

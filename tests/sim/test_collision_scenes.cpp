@@ -1,6 +1,6 @@
 // Collision invariants over every frame of the shipped collision scenes, shortened (coarser grids,
 // fewer frames): no two non-adjacent triangles intersect and no cloth vertex crosses into a
-// collider, judged by core/intersection_check and analytic shapes (tests/support/
+// collider, judged by check/intersection_check and analytic shapes (tests/support/
 // scene_invariants.hpp), never by the collision code. bench/collision_scenes.sh runs the full
 // scenes with the same check. Plus what each scene is for: the cloth reaches the obstacle, the
 // slope holds or lets go by the friction law.

@@ -1,59 +1,30 @@
 #pragma once
 // The collision invariants of a World, checked without the collision code: the exact triangle
-// intersection check of core/intersection_check over every cloth and collider surface (pairs of
-// two colliders aside), and a vertex-in-solid test against the analytic collider shapes written
-// here from their definitions (plane half-space, sphere, box, capsule, capped cylinder; meshes and
-// open tubes have no inside). A vertex must stay on the side of each solid it started on (outside,
+// intersection check of check/intersection_check over every cloth and collider surface (pairs of
+// two colliders aside), and a vertex-in-solid test against the analytic collider shapes from their
+// definitions (check/solid_distance: plane half-space, sphere, box, capsule, capped cylinder;
+// meshes and open tubes have no inside). A vertex must stay on the side of each solid it started on (outside,
 // or inside a drum). Where the scene sets collision.strain_limit, every side of every cloth
 // triangle must stay within (1 + strain_limit) times its rest length (to the limiter's 1e-3).
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "core/intersection_check.hpp"
+#include "app/collider_solid.hpp"
+#include "check/intersection_check.hpp"
 #include "sim/world.hpp"
 
 namespace weft::testing {
 
-// Signed distance to the shape at time 0 (negative inside); +inf for shapes without an inside.
-inline double reference_signed_distance(const Collider& c, const Vec3& p) {
-  const Vec3 local = p - c.center;
-  switch (c.shape) {
-    case ColliderShape::plane:
-      return c.normal.normalized().dot(local);
-    case ColliderShape::sphere:
-      return local.norm() - c.radius;
-    case ColliderShape::box: {
-      const Vec3 q = local.cwiseAbs() - c.half_extents;
-      return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
-    }
-    case ColliderShape::capsule: {
-      const Vec3 axis = c.axis.normalized();
-      const double along = std::clamp(local.dot(axis), -c.half_length, c.half_length);
-      return (local - along * axis).norm() - c.radius;
-    }
-    case ColliderShape::cylinder: {
-      if (!c.capped) break;
-      const Vec3 axis = c.axis.normalized();
-      const double along = local.dot(axis);
-      const Vec2 q((local - along * axis).norm() - c.radius, std::abs(along) - c.half_length);
-      return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
-    }
-    case ColliderShape::mesh:
-      break;
-  }
-  return HUGE_VAL;
-}
-
-// The same for a point at time t: carried back through the scripted motion.
+// Signed distance to the collider's solid at time t (negative inside), by the program's own
+// check (check/solid_distance.hpp); +inf for shapes without an inside (meshes, open tubes).
 inline double reference_signed_distance_at(const Collider& c, const Vec3& p, double t) {
-  const ColliderMotion& m = c.motion;
-  const Mat3 rotation = Eigen::AngleAxisd(m.angular_velocity * t, m.axis.normalized()).toRotationMatrix();
-  // p = R (x - pivot) + pivot + v t  =>  x = R^T (p - pivot - v t) + pivot
-  return reference_signed_distance(c, rotation.transpose() * (p - m.pivot - m.velocity * t) + m.pivot);
+  const std::optional<AnalyticSolid> solid = collider_solid_at(c, t);
+  return solid ? reference_signed_distance(*solid, p) : HUGE_VAL;
 }
 
 struct InvariantReport {

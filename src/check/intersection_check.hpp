@@ -1,6 +1,7 @@
 #pragma once
 // Exact triangle-triangle intersection check: the judge of the collision code, written apart
-// from it (no BVH, no shared helpers), for tests and for checking a run after the fact.
+// from it (no shared helpers, no shared filters), for tests, for every run's tangle check
+// (tangle_check.hpp) and for checking a recording after the fact.
 //
 // Triangles are closed sets: two that only touch (a shared point, a vertex on a face, an edge
 // crossing an edge) intersect, and so do coplanar triangles that overlap. Every decision is
@@ -32,6 +33,7 @@ bool triangles_intersect(const Vec3& p0, const Vec3& p1, const Vec3& p2, const V
 struct CheckedMesh {
   const Positions* positions = nullptr;  // (3 x n_vertices)
   const Triangles* triangles = nullptr;  // (3 x n_triangles)
+  bool obstacle = false;  // pairs of two obstacle triangles (colliders among themselves) are not tested
 };
 
 // A pair of intersecting triangles, (mesh_a, triangle_a) < (mesh_b, triangle_b).
@@ -52,14 +54,15 @@ struct TriangleIntersection {
 // one of CGAL's self-intersection test): two triangles of one mesh that share a vertex intersect
 // when they meet anywhere other than at that vertex, two that share a side when they meet
 // anywhere other than along that side (they overlap in their common plane), a triangle listed
-// twice always; triangles of different meshes share nothing. Candidates come from a sort-and-sweep of
-// the triangles' bounding boxes along their widest axis. Throws std::invalid_argument on a
+// twice always; triangles of different meshes share nothing. Pairs of two obstacle triangles
+// (of one obstacle mesh or of two) are not tested. Candidates are the pairs whose bounding
+// boxes overlap, from a hierarchy over the boxes (box_tree.hpp). Throws std::invalid_argument on a
 // null mesh, an index out of range or a coordinate that is not finite.
 std::vector<TriangleIntersection> find_triangle_intersections(const std::vector<CheckedMesh>& meshes);
 std::vector<TriangleIntersection> find_triangle_intersections(const Positions& positions,
                                                               const Triangles& triangles);
 
-// The same by testing every pair (quadratic): the reference the sweep is tested against.
+// The same by testing every pair (quadratic): the reference the box tree is tested against.
 std::vector<TriangleIntersection> find_triangle_intersections_brute_force(
     const std::vector<CheckedMesh>& meshes);
 

@@ -2,11 +2,12 @@
 // inputs, hand-built touching / crossing / coplanar / barely separated triangle pairs,
 // agreement with a floating-point reference on generic random triangles, sweep versus brute
 // force on random soups, and grids that do or do not pass through themselves.
-#include "core/intersection_check.hpp"
+#include "check/intersection_check.hpp"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <random>
@@ -176,6 +177,49 @@ TEST(IntersectionCheck, CoplanarTriangles) {
   expect_intersect(true, tilted, {at(0.25, 0.25), at(1.0, 0.25), at(0.25, 1.0)});
   expect_intersect(true, tilted, {at(0.5, 0.5), at(1.0, 1.0), at(1.0, 0.5)});  // corner on the edge
   expect_intersect(false, tilted, {at(0.75, 0.75), at(1.5, 0.75), at(0.75, 1.5)});
+}
+
+// Coplanar triangles on a small lattice (many corners on sides, shared lines, touching corners),
+// in the plane z = 0 and in the tilted plane z = x + 2y (exact on integers), against a reference
+// written from the definition: two closed triangles of one plane meet iff a side of one meets a
+// side of the other or a corner of one lies in the other.
+TEST(IntersectionCheck, CoplanarLatticeTrianglesAgreeWithSidesAndCorners) {
+  std::mt19937 random(11);
+  std::uniform_int_distribution<int> coordinate(0, 4);
+  const auto in_triangle = [](const Vec2& x, const std::array<Vec2, 3>& t) {
+    const int s0 = orient2d(t[0], t[1], x), s1 = orient2d(t[1], t[2], x), s2 = orient2d(t[2], t[0], x);
+    return !((s0 < 0 || s1 < 0 || s2 < 0) && (s0 > 0 || s1 > 0 || s2 > 0));
+  };
+  const auto sides_meet = [](const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+    const int abc = orient2d(a, b, c), abd = orient2d(a, b, d), cda = orient2d(c, d, a), cdb = orient2d(c, d, b);
+    if (abc == 0 && abd == 0) {  // collinear: overlapping extents
+      return std::max(a.x(), b.x()) >= std::min(c.x(), d.x()) && std::max(c.x(), d.x()) >= std::min(a.x(), b.x()) &&
+             std::max(a.y(), b.y()) >= std::min(c.y(), d.y()) && std::max(c.y(), d.y()) >= std::min(a.y(), b.y());
+    }
+    return abc * abd <= 0 && cda * cdb <= 0;
+  };
+  int tested = 0, meeting = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    std::array<Vec2, 3> p, q;
+    for (Vec2& corner : p) corner = Vec2(coordinate(random), coordinate(random));
+    for (Vec2& corner : q) corner = Vec2(coordinate(random), coordinate(random));
+    if (orient2d(p[0], p[1], p[2]) == 0 || orient2d(q[0], q[1], q[2]) == 0) continue;
+    bool expected = in_triangle(p[0], q) || in_triangle(q[0], p);
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) expected = expected || sides_meet(p[i], p[(i + 1) % 3], q[j], q[(j + 1) % 3]);
+    }
+    for (const bool tilted : {false, true}) {
+      const auto lift = [tilted](const Vec2& x) { return Vec3(x.x(), x.y(), tilted ? x.x() + 2.0 * x.y() : 0.0); };
+      EXPECT_EQ(triangles_intersect(lift(p[0]), lift(p[1]), lift(p[2]), lift(q[0]), lift(q[1]), lift(q[2])),
+                expected)
+          << "trial " << trial << (tilted ? " (tilted)" : "");
+    }
+    ++tested;
+    meeting += expected;
+  }
+  EXPECT_GT(tested, 2000);
+  EXPECT_GT(meeting, tested / 10);
+  EXPECT_LT(meeting, tested - tested / 10);
 }
 
 TEST(IntersectionCheck, DegenerateTriangles) {

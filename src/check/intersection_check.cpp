@@ -1,4 +1,6 @@
-#include "core/intersection_check.hpp"
+#include "check/intersection_check.hpp"
+
+#include "check/box_tree.hpp"
 
 #include <algorithm>
 #include <array>
@@ -65,7 +67,7 @@ class Expansion {
   int sign() const { return size_ == 0 ? 0 : (terms_[size_ - 1] > 0.0 ? 1 : -1); }
 
  private:
-  std::array<double, 100> terms_{};
+  std::array<double, 100> terms_;  // the first size_ are the sum's terms
   int size_ = 0;
 };
 
@@ -81,10 +83,47 @@ int permutation_sign(const std::array<int, n>& permutation) {
   return inversions % 2 == 0 ? 1 : -1;
 }
 
-// Exact orient3d: det[a - d; b - d; c - d] equals the 4 x 4 determinant with rows (p, 1) for
-// p = a, b, c, d. Its Leibniz expansion has 24 terms, each a product of three coordinates (the
-// column of ones contributes 1), summed exactly; no difference of inputs is ever rounded.
+// a - b, when it is exact (always so for a and b within a factor of 2 of each other: Sterbenz's
+// lemma, which covers the corners of neighbouring triangles); false when it rounds.
+bool exact_difference(double a, double b, double& difference) {
+  difference = a - b;
+  const double b_virtual = a - difference;
+  const double a_virtual = difference + b_virtual;
+  return a_virtual == a && b_virtual == b;
+}
+
+// Exact orient3d from exact differences: the 3 x 3 determinant's six triple products summed
+// exactly, and 0 at once when a column of it is zero (the four points in one axis-aligned plane).
+int orient3d_exact_differences(const Vec3& ad, const Vec3& bd, const Vec3& cd) {
+  for (int axis = 0; axis < 3; ++axis) {
+    if (ad[axis] == 0.0 && bd[axis] == 0.0 && cd[axis] == 0.0) return 0;
+  }
+  Expansion determinant;
+  determinant.add_product(1, ad.x(), bd.y(), cd.z());
+  determinant.add_product(-1, ad.x(), bd.z(), cd.y());
+  determinant.add_product(1, ad.y(), bd.z(), cd.x());
+  determinant.add_product(-1, ad.y(), bd.x(), cd.z());
+  determinant.add_product(1, ad.z(), bd.x(), cd.y());
+  determinant.add_product(-1, ad.z(), bd.y(), cd.x());
+  return determinant.sign();
+}
+
+// Exact orient3d: det[a - d; b - d; c - d]. From the differences where they are exact; else it
+// equals the 4 x 4 determinant with rows (p, 1) for p = a, b, c, d, whose Leibniz expansion has
+// 24 terms, each a product of three coordinates (the column of ones contributes 1), summed
+// exactly; no difference of inputs is ever rounded.
 int orient3d_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  // Four points with one coordinate in common lie in an axis-aligned plane (a flat cloth).
+  for (int axis = 0; axis < 3; ++axis) {
+    if (a[axis] == d[axis] && b[axis] == d[axis] && c[axis] == d[axis]) return 0;
+  }
+  Vec3 ad, bd, cd;
+  bool exact = true;
+  for (int axis = 0; axis < 3; ++axis) {
+    exact = exact && exact_difference(a[axis], d[axis], ad[axis]) &&
+            exact_difference(b[axis], d[axis], bd[axis]) && exact_difference(c[axis], d[axis], cd[axis]);
+  }
+  if (exact) return orient3d_exact_differences(ad, bd, cd);
   const std::array<const Vec3*, 4> rows = {&a, &b, &c, &d};
   std::array<int, 4> column_of_row = {0, 1, 2, 3};
   Expansion determinant;
@@ -101,6 +140,17 @@ int orient3d_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
 
 // Exact orient2d the same way: the 3 x 3 determinant with rows (p, 1), 6 products of two.
 int orient2d_exact(const Vec2& a, const Vec2& b, const Vec2& c) {
+  // Three points with one coordinate in common lie on an axis-parallel line.
+  if ((a.x() == c.x() && b.x() == c.x()) || (a.y() == c.y() && b.y() == c.y())) return 0;
+  // From exact differences: (a - c).x (b - c).y - (a - c).y (b - c).x, its two products exact.
+  double acx, acy, bcx, bcy;
+  if (exact_difference(a.x(), c.x(), acx) && exact_difference(a.y(), c.y(), acy) &&
+      exact_difference(b.x(), c.x(), bcx) && exact_difference(b.y(), c.y(), bcy)) {
+    Expansion determinant;
+    determinant.add_product(1, acx, bcy, 1.0);
+    determinant.add_product(-1, acy, bcx, 1.0);
+    return determinant.sign();
+  }
   const std::array<const Vec2*, 3> rows = {&a, &b, &c};
   std::array<int, 3> column_of_row = {0, 1, 2};
   Expansion determinant;
@@ -128,9 +178,14 @@ constexpr double smallest_trusted_permanent = 1e-250;
 // The two coordinates left when axis `drop` is dropped, in cyclic order.
 Vec2 project(const Vec3& p, int drop) { return Vec2(p[(drop + 1) % 3], p[(drop + 2) % 3]); }
 
-// An axis whose projection keeps a, b, c non-collinear, or -1 when a, b, c are collinear.
+// An axis whose projection keeps a, b, c non-collinear, or -1 when a, b, c are collinear. The
+// axes are tried from the largest component of the rounded normal down, so the first one tried
+// is almost always the answer (exact either way: the order only saves exact evaluations).
 int non_degenerate_drop_axis(const Vec3& a, const Vec3& b, const Vec3& c) {
-  for (int axis = 0; axis < 3; ++axis) {
+  const Vec3 normal = (b - a).cross(c - a).cwiseAbs();
+  std::array<int, 3> axes = {0, 1, 2};
+  std::sort(axes.begin(), axes.end(), [&](int i, int j) { return normal[i] > normal[j]; });
+  for (const int axis : axes) {
     if (orient2d(project(a, axis), project(b, axis), project(c, axis)) != 0) return axis;
   }
   return -1;
@@ -186,15 +241,17 @@ bool segments_intersect_3d(const Vec3& a, const Vec3& b, const Vec3& c, const Ve
 
 // Closed segment [a, b] and closed triangle (p, q, r) share a point.
 bool segment_intersects_triangle(const Vec3& a, const Vec3& b, const Vec3& p, const Vec3& q, const Vec3& r) {
+  // Both ends strictly on one side of the plane (never so for a degenerate triangle, whose
+  // orientations are all 0): the common case, decided first.
+  const int side_a = orient3d(p, q, r, a);
+  const int side_b = orient3d(p, q, r, b);
+  if (side_a * side_b > 0) return false;
   // A degenerate triangle is the union of its sides.
   const int axis = non_degenerate_drop_axis(p, q, r);
   if (axis < 0) {
     return segments_intersect_3d(a, b, p, q) || segments_intersect_3d(a, b, q, r) ||
            segments_intersect_3d(a, b, r, p);
   }
-  const int side_a = orient3d(p, q, r, a);
-  const int side_b = orient3d(p, q, r, b);
-  if (side_a * side_b > 0) return false;
 
   // In the triangle's plane: an end inside, or the segment crossing a side.
   if (side_a == 0 && side_b == 0) {
@@ -214,6 +271,28 @@ bool segment_intersects_triangle(const Vec3& a, const Vec3& b, const Vec3& p, co
   return !(some_negative && some_positive);
 }
 
+// Whether one side of `a` has all of `b` strictly beyond it: the line through the side, with
+// a's third corner on one side and b's three corners strictly on the other.
+bool side_separates(const std::array<Vec2, 3>& a, const std::array<Vec2, 3>& b) {
+  const int inside = orient2d(a[0], a[1], a[2]);
+  for (int k = 0; k < 3; ++k) {
+    const Vec2& from = a[k];
+    const Vec2& to = a[(k + 1) % 3];
+    if (orient2d(from, to, b[0]) * inside < 0 && orient2d(from, to, b[1]) * inside < 0 &&
+        orient2d(from, to, b[2]) * inside < 0) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// Two closed, non-degenerate triangles of one plane share a point iff no side of either
+// separates them: disjoint compact convex polygons have a separating line through a side of
+// one of them (the separating axis theorem), with the other strictly beyond it.
+bool coplanar_triangles_intersect(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q) {
+  return !side_separates(p, q) && !side_separates(q, p);
+}
+
 // All three of q0, q1, q2 strictly on one side of the plane of (p0, p1, p2). Never true for a
 // degenerate (p0, p1, p2), whose orientations are all 0.
 bool strictly_one_side(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& q0, const Vec3& q1,
@@ -225,13 +304,6 @@ bool strictly_one_side(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec
 
 // ---------------------------------------------------------------------------------------------
 // Meshes.
-
-struct BoundedTriangle {
-  Vec3 lower;
-  Vec3 upper;
-  int mesh;
-  int triangle;
-};
 
 void check_meshes(const std::vector<CheckedMesh>& meshes) {
   for (std::size_t m = 0; m < meshes.size(); ++m) {
@@ -264,7 +336,32 @@ int corner_index(const CheckedMesh& mesh, int triangle, int k) { return (*mesh.t
 // is on [v, a] (or [v, b]), the ray runs along that side, and I ends at q because either the
 // side ends there (q = a, on [a, b]) or the other triangle does: then q is on [c, d], or on
 // [v, c] / [v, d] running the same way, where it ends at c or d, on [c, d].
+//
+// When the two are coplanar and neither is degenerate (a flat cloth), each coincides near v with
+// its corner's cone, so they meet beyond v iff the cones do: iff a side ray of one cone lies in
+// the other (the common cone, when not {v}, is bounded by such a ray; both angles are below pi).
 bool meet_beyond_shared_vertex(const Vec3& v, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  // c and d strictly on one side of the plane of (v, a, b): (v, c, d) meets it at v alone.
+  const int side_c = orient3d(v, a, b, c), side_d = orient3d(v, a, b, d);
+  if (side_c * side_d > 0) return false;
+  if (side_c == 0 && side_d == 0) {
+    const int axis = non_degenerate_drop_axis(v, a, b);
+    if (axis >= 0) {
+      const Vec2 v2 = project(v, axis), c2 = project(c, axis), d2 = project(d, axis);
+      Vec2 a2 = project(a, axis), b2 = project(b, axis);
+      const int turn_cd = orient2d(v2, c2, d2);
+      if (turn_cd != 0) {
+        // Both cones counter-clockwise from their first side ray to their second.
+        if (orient2d(v2, a2, b2) < 0) std::swap(a2, b2);
+        const Vec2 first = turn_cd > 0 ? c2 : d2, second = turn_cd > 0 ? d2 : c2;
+        const auto ray_in_cone = [&v2](const Vec2& x, const Vec2& from, const Vec2& to) {
+          return orient2d(v2, from, x) >= 0 && orient2d(v2, x, to) >= 0;
+        };
+        return ray_in_cone(first, a2, b2) || ray_in_cone(second, a2, b2) || ray_in_cone(a2, first, second) ||
+               ray_in_cone(b2, first, second);
+      }
+    }
+  }
   return segment_intersects_triangle(a, b, v, c, d) || segment_intersects_triangle(c, d, v, a, b);
 }
 
@@ -310,8 +407,9 @@ bool mesh_triangles_intersect(const std::vector<CheckedMesh>& meshes, int mesh_a
     }
   }
   const Vec3 p0 = corner(a, triangle_a, 0), p1 = corner(a, triangle_a, 1), p2 = corner(a, triangle_a, 2);
-  if (num_shared == 0) return triangles_intersect(p0, p1, p2, corner(b, triangle_b, 0), corner(b, triangle_b, 1),
-                                                  corner(b, triangle_b, 2));
+  if (num_shared == 0)
+    return triangles_intersect(p0, p1, p2, corner(b, triangle_b, 0), corner(b, triangle_b, 1),
+                               corner(b, triangle_b, 2));
   if (num_shared == 3) return true;
 
   // Rotate both triangles so that the shared corners come first.
@@ -319,8 +417,9 @@ bool mesh_triangles_intersect(const std::vector<CheckedMesh>& meshes, int mesh_a
   while (match_in_b[first_shared] < 0 || (num_shared == 2 && match_in_b[(first_shared + 2) % 3] >= 0)) {
     ++first_shared;
   }
-  const std::array<Vec3, 3> pa = {corner(a, triangle_a, first_shared), corner(a, triangle_a, (first_shared + 1) % 3),
-                                   corner(a, triangle_a, (first_shared + 2) % 3)};
+  const std::array<Vec3, 3> pa = {corner(a, triangle_a, first_shared),
+                                  corner(a, triangle_a, (first_shared + 1) % 3),
+                                  corner(a, triangle_a, (first_shared + 2) % 3)};
   const int v_in_b = match_in_b[first_shared];
   if (num_shared == 1) {
     return meet_beyond_shared_vertex(pa[0], pa[1], pa[2], corner(b, triangle_b, (v_in_b + 1) % 3),
@@ -382,6 +481,16 @@ bool triangles_intersect(const Vec3& p0, const Vec3& p1, const Vec3& p2, const V
   // One triangle strictly on one side of the other's plane.
   if (strictly_one_side(p0, p1, p2, q0, q1, q2) || strictly_one_side(q0, q1, q2, p0, p1, p2)) return false;
 
+  // Coplanar and neither degenerate (a flat cloth): decided in the plane.
+  if (orient3d(p0, p1, p2, q0) == 0 && orient3d(p0, p1, p2, q1) == 0 && orient3d(p0, p1, p2, q2) == 0) {
+    const int axis = non_degenerate_drop_axis(p0, p1, p2);
+    if (axis >= 0) {
+      const std::array<Vec2, 3> p2d = {project(p0, axis), project(p1, axis), project(p2, axis)};
+      const std::array<Vec2, 3> q2d = {project(q0, axis), project(q1, axis), project(q2, axis)};
+      if (orient2d(q2d[0], q2d[1], q2d[2]) != 0) return coplanar_triangles_intersect(p2d, q2d);
+    }
+  }
+
   // Two closed triangles meet iff a side of one meets the other: the intersection is convex,
   // and its extreme points lie on the boundary of one of the two.
   return segment_intersects_triangle(p0, p1, q0, q1, q2) || segment_intersects_triangle(p1, p2, q0, q1, q2) ||
@@ -397,37 +506,27 @@ bool TriangleIntersection::operator<(const TriangleIntersection& other) const {
 std::vector<TriangleIntersection> find_triangle_intersections(const std::vector<CheckedMesh>& meshes) {
   check_meshes(meshes);
 
-  // Every triangle's bounding box; the sweep runs along the axis where all of them spread most.
-  std::vector<BoundedTriangle> items;
-  Vec3 lower = Vec3::Constant(std::numeric_limits<double>::infinity());
-  Vec3 upper = -lower;
+  // Every triangle's bounding box (exact: min and max do not round); the box tree gives the
+  // pairs whose boxes overlap, and only those are tested.
+  std::vector<CheckBox> boxes;
+  std::vector<std::pair<int, int>> triangle_of_box;  // (mesh, triangle)
+  Eigen::Index num_triangles = 0;
+  for (const CheckedMesh& mesh : meshes) num_triangles += mesh.triangles->cols();
+  boxes.reserve(num_triangles);
+  triangle_of_box.reserve(num_triangles);
   for (int m = 0; m < static_cast<int>(meshes.size()); ++m) {
     for (int t = 0; t < static_cast<int>(meshes[m].triangles->cols()); ++t) {
       const Vec3 a = corner(meshes[m], t, 0), b = corner(meshes[m], t, 1), c = corner(meshes[m], t, 2);
-      items.push_back({a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), m, t});
-      lower = lower.cwiseMin(items.back().lower);
-      upper = upper.cwiseMax(items.back().upper);
+      boxes.push_back({a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), meshes[m].obstacle});
+      triangle_of_box.emplace_back(m, t);
     }
   }
   std::vector<TriangleIntersection> found;
-  if (items.empty()) return found;
-  int axis = 0;
-  (upper - lower).maxCoeff(&axis);
-
-  // Sort and sweep: after sorting by the low end on `axis`, the boxes that can overlap box i
-  // on that axis are the run after it that starts before box i ends.
-  std::sort(items.begin(), items.end(), [axis](const BoundedTriangle& x, const BoundedTriangle& y) {
-    return std::make_tuple(x.lower[axis], x.mesh, x.triangle) <
-           std::make_tuple(y.lower[axis], y.mesh, y.triangle);
-  });
-  for (std::size_t i = 0; i < items.size(); ++i) {
-    const BoundedTriangle& x = items[i];
-    for (std::size_t j = i + 1; j < items.size() && items[j].lower[axis] <= x.upper[axis]; ++j) {
-      const BoundedTriangle& y = items[j];
-      if ((x.upper.array() < y.lower.array()).any() || (y.upper.array() < x.lower.array()).any()) continue;
-      if (mesh_triangles_intersect(meshes, x.mesh, x.triangle, y.mesh, y.triangle)) {
-        found.push_back(ordered(x.mesh, x.triangle, y.mesh, y.triangle));
-      }
+  for (const auto& [i, j] : overlapping_box_pairs(boxes)) {
+    const auto [mesh_a, triangle_a] = triangle_of_box[i];
+    const auto [mesh_b, triangle_b] = triangle_of_box[j];
+    if (mesh_triangles_intersect(meshes, mesh_a, triangle_a, mesh_b, triangle_b)) {
+      found.push_back(ordered(mesh_a, triangle_a, mesh_b, triangle_b));
     }
   }
   std::sort(found.begin(), found.end());
@@ -447,6 +546,7 @@ std::vector<TriangleIntersection> find_triangle_intersections_brute_force(
   for (int mesh_a = 0; mesh_a < num_meshes; ++mesh_a) {
     for (int triangle_a = 0; triangle_a < meshes[mesh_a].triangles->cols(); ++triangle_a) {
       for (int mesh_b = mesh_a; mesh_b < num_meshes; ++mesh_b) {
+        if (meshes[mesh_a].obstacle && meshes[mesh_b].obstacle) continue;
         const int first_b = mesh_b == mesh_a ? triangle_a + 1 : 0;
         for (int triangle_b = first_b; triangle_b < meshes[mesh_b].triangles->cols(); ++triangle_b) {
           if (mesh_triangles_intersect(meshes, mesh_a, triangle_a, mesh_b, triangle_b)) {
