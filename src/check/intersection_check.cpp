@@ -521,13 +521,24 @@ std::vector<TriangleIntersection> find_triangle_intersections(const std::vector<
       triangle_of_box.emplace_back(m, t);
     }
   }
+  // The candidates are tested over the OpenMP threads, each into its own list; the lists are
+  // joined and sorted, so the result is the same on any number of threads.
+  const std::vector<std::pair<int, int>> candidates = overlapping_box_pairs(boxes);
+  const long num_candidates = static_cast<long>(candidates.size());
   std::vector<TriangleIntersection> found;
-  for (const auto& [i, j] : overlapping_box_pairs(boxes)) {
-    const auto [mesh_a, triangle_a] = triangle_of_box[i];
-    const auto [mesh_b, triangle_b] = triangle_of_box[j];
-    if (mesh_triangles_intersect(meshes, mesh_a, triangle_a, mesh_b, triangle_b)) {
-      found.push_back(ordered(mesh_a, triangle_a, mesh_b, triangle_b));
+#pragma omp parallel if (num_candidates > 4096)
+  {
+    std::vector<TriangleIntersection> mine;
+#pragma omp for schedule(dynamic, 512) nowait
+    for (long k = 0; k < num_candidates; ++k) {
+      const auto [mesh_a, triangle_a] = triangle_of_box[candidates[k].first];
+      const auto [mesh_b, triangle_b] = triangle_of_box[candidates[k].second];
+      if (mesh_triangles_intersect(meshes, mesh_a, triangle_a, mesh_b, triangle_b)) {
+        mine.push_back(ordered(mesh_a, triangle_a, mesh_b, triangle_b));
+      }
     }
+#pragma omp critical(weft_check_found)
+    found.insert(found.end(), mine.begin(), mine.end());
   }
   std::sort(found.begin(), found.end());
   return found;
