@@ -45,15 +45,6 @@ std::string frame_name(int frame) {
   return name;
 }
 
-bool wait_for(const fs::path& path, std::chrono::seconds limit) {
-  const auto deadline = std::chrono::steady_clock::now() + limit;
-  while (!fs::exists(path)) {
-    if (std::chrono::steady_clock::now() > deadline) return false;
-    std::this_thread::sleep_for(std::chrono::microseconds(200));
-  }
-  return true;
-}
-
 TEST(CheckpointResume, KilledRunResumesBitIdentically) {
   TempDir dir("weft_resume");
   const fs::path reference = dir.path() / "reference", killed = dir.path() / "killed";

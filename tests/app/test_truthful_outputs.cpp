@@ -37,15 +37,6 @@ std::vector<std::string> drape(const std::vector<std::string>& more) {
   return command;
 }
 
-bool wait_for(const fs::path& path, std::chrono::seconds limit) {
-  const auto deadline = std::chrono::steady_clock::now() + limit;
-  while (!fs::exists(path)) {
-    if (std::chrono::steady_clock::now() > deadline) return false;
-    std::this_thread::sleep_for(std::chrono::microseconds(200));
-  }
-  return true;
-}
-
 // Starts `command`, kills it with SIGKILL once `file` exists, and returns what it wrote to stderr.
 std::string kill_when(const std::vector<std::string>& command, const fs::path& file, const std::string& log) {
   const pid_t pid = start_program(command, log);

@@ -5,9 +5,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 extern char** environ;
@@ -50,6 +53,16 @@ inline ProgramResult wait_program(pid_t pid, const std::string& log_file) {
 
 inline ProgramResult run_program(const std::vector<std::string>& arguments, const std::string& log_file) {
   return wait_program(start_program(arguments, log_file), log_file);
+}
+
+// Waits until `path` exists, at most `limit`; returns whether it does.
+inline bool wait_for(const std::filesystem::path& path, std::chrono::seconds limit) {
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  while (!std::filesystem::exists(path)) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  return true;
 }
 
 }  // namespace weft::testing
