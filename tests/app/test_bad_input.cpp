@@ -13,6 +13,7 @@ namespace weft {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::contains;
 using testing::ProgramResult;
 using testing::run_program;
 using testing::TempDir;
@@ -21,10 +22,6 @@ const std::string weft_program = WEFT_EXECUTABLE;
 const std::string source_dir = WEFT_SOURCE_DIR;
 const std::string default_scene = source_dir + "/scenes/default.json";
 const std::string drape_scene = source_dir + "/scenes/drape_sphere.json";
-
-bool contains(const std::string& text, const std::string& piece) {
-  return text.find(piece) != std::string::npos;
-}
 
 // Runs weft with `arguments` (no display, so a viewer run fails fast if it gets that far).
 ProgramResult weft(const TempDir& dir, std::vector<std::string> arguments) {

@@ -18,10 +18,6 @@ using namespace weft::testing;
 const std::string weft_program = WEFT_EXECUTABLE;
 const std::string source_dir = WEFT_SOURCE_DIR;
 
-bool contains(const std::string& text, const std::string& piece) {
-  return text.find(piece) != std::string::npos;
-}
-
 // A short recording of `scene` into `out`.
 void record(const std::string& scene, const fs::path& out, const TempDir& dir,
             const std::vector<std::string>& more) {

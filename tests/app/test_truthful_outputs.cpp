@@ -25,10 +25,6 @@ const std::string weft_program = WEFT_EXECUTABLE;
 const std::string source_dir = WEFT_SOURCE_DIR;
 const std::string drape_scene = source_dir + "/scenes/drape_sphere.json";
 
-bool contains(const std::string& text, const std::string& piece) {
-  return text.find(piece) != std::string::npos;
-}
-
 std::vector<std::string> drape(const std::vector<std::string>& more) {
   std::vector<std::string> command = {
       weft_program, "--headless", drape_scene, "--quiet",

@@ -25,10 +25,6 @@ using namespace weft::testing;
 const std::string weft_program = WEFT_EXECUTABLE;
 const std::string source_dir = WEFT_SOURCE_DIR;
 
-bool contains(const std::string& text, const std::string& piece) {
-  return text.find(piece) != std::string::npos;
-}
-
 // One stats.csv column, a value per frame.
 std::vector<double> stats_column(const fs::path& stats, const std::string& name) {
   std::ifstream in(stats);

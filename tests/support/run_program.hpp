@@ -22,6 +22,11 @@ struct ProgramResult {
   std::string error_text;  // everything written to stderr
 };
 
+// Whether `text` (a program's stderr, a file's contents) holds `piece`.
+inline bool contains(const std::string& text, const std::string& piece) {
+  return text.find(piece) != std::string::npos;
+}
+
 // Starts `arguments` (argv[0] is the program) with stdout and stderr to `log_file`; returns the pid.
 inline pid_t start_program(const std::vector<std::string>& arguments, const std::string& log_file) {
   std::vector<char*> argv;
