@@ -42,10 +42,11 @@ constexpr const char* stats_header =
     "linear_iterations,accepted_steps,rejected_steps,yielded_triangles,move_colliders_ms,integrate_ms,"
     "collisions_ms,rest_update_ms,record_ms,wall_ms,steps,broad_phase_ms,narrow_phase_ms,response_ms,step_ms,"
     "vertex_face_candidates,edge_edge_candidates,proximity_contacts,ccd_impulses,impact_zone_vertices,"
-    "collisions_clean,strain_limited_edges,newton_residual,unconverged_steps,external_work,dissipated_damping,"
+    "collisions_clean,strain_limited_edges,newton_residual,unconverged_steps,external_work,dissipated_"
+    "damping,"
     "dissipated_integrator,dissipated_contact,dissipated_plastic,budget_error,threads,held_pins,"
     "edges_over_strain_limit,collision_correction_max,collision_corrected_vertices,dissipated_residual,"
-    "substeps,intersecting_pairs,vertices_inside_colliders,check_ms";
+    "substeps,intersecting_pairs,vertices_inside_colliders,check_ms,untangled_vertices,untangle_ms";
 
 volatile std::sig_atomic_t stop_requested = 0;
 extern "C" void request_stop(int) { stop_requested = 1; }
@@ -87,7 +88,8 @@ std::string stats_line(int frame, double time, const Energies& e, double initial
       << (s.steps > 0 ? static_cast<double>(s.thread_steps) / s.steps : 0.0) << ',' << s.held_pins << ','
       << s.edges_over_strain_limit << ',' << s.largest_collision_correction << ','
       << s.collision_corrected_vertices << ',' << flows.residual << ',' << s.substeps << ','
-      << tangles.intersecting_pairs << ',' << tangles.vertices_inside_colliders << ',' << check_ms;
+      << tangles.intersecting_pairs << ',' << tangles.vertices_inside_colliders << ',' << check_ms << ','
+      << s.untangled_vertices << ',' << s.untangle_ms;
   return out.str();
 }
 

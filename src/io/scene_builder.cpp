@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "collision/collider_push_out.hpp"
 #include "core/error.hpp"
 #include "core/topology.hpp"
 #include "io/obj_io.hpp"
@@ -291,6 +292,31 @@ void check_memory(const SceneDesc& scene) {
                    message.str());
 }
 
+// A pinned vertex inside a collider is a tangle untangling cannot undo (it cannot move the pin):
+// refused, naming the cloth, the vertex and the collider, where untangling is on.
+void refuse_pins_inside_colliders(const SceneDesc& scene, const World& world) {
+  if (!scene.collision.enabled || !scene.collision.untangle) return;
+  for (size_t c = 0; c < world.cloths().size(); ++c) {
+    const Cloth& cloth = world.cloths()[c];
+    for (size_t k = 0; k < world.colliders().size(); ++k) {
+      const Collider& collider = world.colliders()[k];
+      if (!collider_has_inside(collider)) continue;
+      for (Eigen::Index v = 0; v < cloth.state.x.cols(); ++v) {
+        if (cloth.model.inverse_mass(v) != 0.0) continue;
+        const double distance = signed_distance_at(collider, cloth.state.x.col(v), 0.0);
+        if (!(distance < 0.0)) continue;
+        std::ostringstream message;
+        message << std::setprecision(3) << "vertex " << v << " of cloth '" << scene.cloths[c].name
+                << "' is pinned " << -distance * 100.0 << " cm inside collider '" << collider.name
+                << "' (/colliders/" << k
+                << "); untangling cannot move a pinned vertex out: expected the pin outside the collider"
+                   " (move the pin or the collider, or set collision.untangle to false)";
+        throw SceneError(scene.source_file, "/cloths/" + std::to_string(c) + "/pins", message.str());
+      }
+    }
+  }
+}
+
 }  // namespace
 
 World build_world(const SceneDesc& scene) {
@@ -337,6 +363,7 @@ World build_world(const SceneDesc& scene) {
       throw SceneError(scene.source_file, path, error.what());
     }
   }
+  refuse_pins_inside_colliders(scene, world);
   return world;
 }
 

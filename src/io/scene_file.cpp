@@ -611,6 +611,7 @@ SceneDesc parse_scene(const json& document, const std::string& file) {
     collision.integer("strain_limit_sweeps", settings.strain_limit_sweeps, 1, 1000);
     collision.number("bvh_rebuild_ratio", settings.bvh.rebuild_ratio, Range{1.0, HUGE_VAL, true, " > 1"});
     collision.boolean("self_culling", settings.self_culling.enabled);
+    collision.boolean("untangle", settings.untangle);
     collision.finish();
   }
   if (const json* colliders = reader.find("colliders")) {
@@ -880,7 +881,8 @@ json scene_to_json(const SceneDesc& scene) {
                            {"strain_limit", scene.collision.strain_limit},
                            {"strain_limit_sweeps", scene.collision.strain_limit_sweeps},
                            {"bvh_rebuild_ratio", scene.collision.bvh.rebuild_ratio},
-                           {"self_culling", scene.collision.self_culling.enabled}};
+                           {"self_culling", scene.collision.self_culling.enabled},
+                           {"untangle", scene.collision.untangle}};
   document["colliders"] = json::array();
   for (const Collider& collider : scene.colliders) {
     json item = {{"type", to_string(collider.shape)},

@@ -82,6 +82,10 @@ struct CollisionSettings {
   // Skip self tests in flat, unfolded regions that cannot touch themselves (docs/collision.md,
   // "Self-collision culling"). Off by default; scenes turn it on where it pays.
   SelfCullingSettings self_culling = {false};
+  // Before a step, after the first and after any that did not end clean: cloth inside colliders
+  // and cloth through cloth moved back to its side (collision/untangling.hpp,
+  // collision/collider_push_out.hpp); either response
+  bool untangle = true;
 };
 
 // What the phase did in the last step, summed over sub-steps by the World.

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "collision/collider_geometry.hpp"
+#include "collision/collider_push_out.hpp"
 #include "core/topology.hpp"
 #include "physics/cloth_terms.hpp"
 #include "physics/symplectic_euler.hpp"
@@ -34,6 +35,8 @@ void World::add_cloth(Cloth cloth, ContactMaterial material) {
   materials_.push_back(material);
   collision_meshes_stale_ = true;
   barrier_meshes_stale_ = true;
+  untangle_mesh_stale_ = true;
+  untangle_due_ = true;
 }
 
 void World::add_collider(Collider collider) {
@@ -44,6 +47,8 @@ void World::add_collider(Collider collider) {
   colliders_.push_back(std::move(collider));
   collision_meshes_stale_ = true;
   barrier_meshes_stale_ = true;
+  untangle_mesh_stale_ = true;
+  untangle_due_ = true;
 }
 
 std::vector<Cloth>& World::cloths() {
@@ -74,6 +79,9 @@ void World::step() {
   const double h = settings.time_step / substeps;
   collisions_.reset_stats();
   const bool barrier = barrier_response();
+  auto untangle_start = Clock::now();
+  untangle(stats);
+  stats.untangle_ms = milliseconds_since(untangle_start);
   for (int substep = 0; substep < substeps; ++substep) {
     auto phase_start = Clock::now();
     if (barrier) {
@@ -96,12 +104,130 @@ void World::step() {
     stats.yielded_triangles += update_rest_state(stats.energy_flows);
     stats.rest_update_ms += milliseconds_since(phase_start);
   }
+  if (!stats.collisions_clean) untangle_due_ = true;  // the step may have left cloth through cloth
   stats.total_ms = milliseconds_since(step_start);
   stats.steps = 1;
   stats.substeps = substeps;
   stats.thread_steps = threads;
   stats_ = stats;
   if (settings.adapt_threads) thread_governor_.record(1e-3 * stats.total_ms);
+}
+
+// Untangling (collision/untangling.hpp, collision/collider_push_out.hpp), before the step: cloth
+// vertices inside a collider are moved out of it, then passes of the cloth-cloth analysis move the
+// sides that passed through cloth back, until no cloth edge pierces a cloth triangle or a pass
+// moves nothing. It runs at the first step and after a step that did not end clean, the only
+// steps after which cloth can be inside cloth or a collider; a clean state costs one check.
+// The energy it adds or removes is booked as contact.
+void World::untangle(StepStats& stats) {
+  if (!untangle_due_ || !settings.collision.enabled || !settings.collision.untangle || cloths_.empty())
+    return;
+  untangle_due_ = false;
+  int num_vertices = 0;
+  for (const Cloth& cloth : cloths_) num_vertices += cloth.num_vertices();
+  if (untangle_mesh_stale_) {
+    int num_triangles = 0;
+    for (const Cloth& cloth : cloths_) num_triangles += static_cast<int>(cloth.model.triangles.cols());
+    Triangles triangles(3, num_triangles);
+    std::vector<int> vertex_mesh;
+    vertex_mesh.reserve(static_cast<size_t>(num_vertices));
+    int vertex_offset = 0;
+    int triangle_offset = 0;
+    for (size_t c = 0; c < cloths_.size(); ++c) {
+      const Triangles& local = cloths_[c].model.triangles;
+      triangles.middleCols(triangle_offset, local.cols()) = local.array() + vertex_offset;
+      vertex_mesh.insert(vertex_mesh.end(), static_cast<size_t>(cloths_[c].num_vertices()),
+                         static_cast<int>(c));
+      vertex_offset += cloths_[c].num_vertices();
+      triangle_offset += static_cast<int>(local.cols());
+    }
+    untangler_.set_mesh(triangles, vertex_mesh);
+    held_.clear();
+    untangle_mesh_stale_ = false;
+  }
+  untangle_x_.resize(3, num_vertices);
+  untangle_inverse_mass_.resize(num_vertices);
+  untangle_margin_.resize(num_vertices);
+  int offset = 0;
+  for (const Cloth& cloth : cloths_) {
+    const int n = cloth.num_vertices();
+    untangle_x_.middleCols(offset, n) = cloth.state.x;
+    untangle_inverse_mass_.segment(offset, n) = cloth.model.inverse_mass;
+    untangle_margin_.segment(offset, n).setConstant(cloth.model.thickness);
+    offset += n;
+  }
+
+  int moved = 0;
+  untangle_push_.setZero(3, num_vertices);
+  push_out_of_colliders(untangle_push_, moved);
+  if (moved > 0) untangle_x_ += untangle_push_;
+  constexpr int max_passes = 8;
+  int crossings = 0;
+  for (int pass = 0; pass < max_passes; ++pass) {
+    crossings = static_cast<int>(untangler_.find_crossings(untangle_x_).size());
+    if (crossings == 0) break;
+    const UntanglePass result =
+        untangler_.plan_pushes(untangle_x_, untangle_inverse_mass_, untangle_margin_, untangle_push_);
+    if (result.moved_vertices == 0) break;
+    untangle_x_ += untangle_push_;
+    moved += result.moved_vertices;
+    if (pass + 1 == max_passes) crossings = static_cast<int>(untangler_.find_crossings(untangle_x_).size());
+  }
+  stats.tangled_crossings = crossings;
+  stats.untangled_vertices = moved;
+  // Checked again at the next step, until a check moves nothing and finds nothing.
+  untangle_due_ = crossings > 0 || moved > 0;
+  if (moved == 0) return;
+
+  double energy_before = 0.0;
+  if (settings.energy_budget) {
+    for (const Cloth& cloth : cloths_)
+      energy_before += kinetic_energy(cloth) + potential_energy(cloth, settings.gravity);
+  }
+  offset = 0;
+  for (size_t c = 0; c < cloths_.size(); ++c) {
+    const int n = cloths_[c].num_vertices();
+    cloths_[c].state.x = untangle_x_.middleCols(offset, n);
+    solvers_[c]->ledger.forget_carried_potential();
+    offset += n;
+  }
+  if (settings.energy_budget) {
+    double energy_after = 0.0;
+    for (const Cloth& cloth : cloths_)
+      energy_after += kinetic_energy(cloth) + potential_energy(cloth, settings.gravity);
+    stats.energy_flows.contact += energy_before - energy_after;
+  }
+}
+
+// The collider half of untangling: each cloth's free vertices inside a collider with an inside,
+// unless the collider holds the cloth (decided at the first call: more than half of the cloth's
+// vertices inside), moved out along the collider's normal. Adds to `displacement`.
+void World::push_out_of_colliders(Positions& displacement, int& moved) {
+  const bool decide = held_.empty();
+  if (decide) held_.assign(cloths_.size(), std::vector<char>(colliders_.size(), 0));
+  for (size_t k = 0; k < colliders_.size(); ++k) {
+    const Collider& collider = colliders_[k];
+    if (!collider_has_inside(collider)) continue;
+    untangle_surface_.resize(3, collider_surfaces_[k].positions.cols());
+    collider.motion.place(collider_surfaces_[k].positions, time_, untangle_surface_);
+    int offset = 0;
+    for (size_t c = 0; c < cloths_.size(); ++c) {
+      const Cloth& cloth = cloths_[c];
+      const int n = cloth.num_vertices();
+      if (decide) {
+        int inside = 0;
+        for (int v = 0; v < n; ++v) inside += signed_distance_at(collider, cloth.state.x.col(v), time_) < 0.0;
+        held_[c][k] = 2 * inside > n;
+      }
+      if (!held_[c][k]) {
+        moved += push_out_of_collider(collider, time_, untangle_surface_, collider_surfaces_[k].triangles,
+                                      untangle_x_.middleCols(offset, n), cloth.model.inverse_mass,
+                                      cloth.model.thickness, displacement.middleCols(offset, n))
+                     .moved;
+      }
+      offset += n;
+    }
+  }
 }
 
 // With n sub-steps a vertex travels (h/n) |v| + (h/n)^2 |g| <= (h |v| + h^2 |g|) / n, so n = the
@@ -441,6 +567,9 @@ StepStats& StepStats::operator+=(const StepStats& step) {
   collision_corrected_vertices += step.collision_corrected_vertices;
   collisions_clean = collisions_clean && step.collisions_clean;
   yielded_triangles += step.yielded_triangles;
+  untangled_vertices += step.untangled_vertices;
+  tangled_crossings = step.tangled_crossings;
+  untangle_ms += step.untangle_ms;
   thread_steps += step.thread_steps;
   newton_iterations += step.newton_iterations;
   linear_iterations += step.linear_iterations;

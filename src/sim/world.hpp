@@ -8,6 +8,7 @@
 
 #include "collision/collider.hpp"
 #include "collision/contact_record.hpp"
+#include "collision/untangling.hpp"
 #include "physics/adaptive_stepping.hpp"
 #include "physics/cloth.hpp"
 #include "physics/explicit_midpoint.hpp"
@@ -91,6 +92,10 @@ struct StepStats {
   int unconverged_steps = 0;      // implicit Euler: cloth steps that ended with the residual above
                                   // the Newton tolerance (iteration cap, or no descent left)
   int yielded_triangles = 0;      // plasticity: triangles whose rest shape flowed
+  int untangled_vertices = 0;     // untangling: cloth vertices moved out of colliders or back
+                                  // through cloth before the step (collision.untangle)
+  int tangled_crossings = 0;      // untangling: cloth edges still through cloth triangles after it
+  double untangle_ms = 0.0;
   int thread_steps = 0;           // the threads each step ran on, summed (sim/thread_governor.hpp
                                   // may run fewer than settings.threads)
   EnergyFlows energy_flows;       // the step's energy budget (settings.energy_budget), J
@@ -174,6 +179,8 @@ class World {
   // settings.max_travel_edges of its shortest rest edges (see there).
   // Whether contact runs inside the solve (collision.response "barrier" with implicit Euler).
   bool barrier_response() const;
+  void untangle(StepStats& stats);
+  void push_out_of_colliders(Positions& displacement, int& moved);
   int substeps_for_step();
   void prepare_barrier();
   void move_colliders(double h);
@@ -196,6 +203,16 @@ class World {
   std::vector<std::array<int, 3>> restored_near_pairs_;  // restore_contact_history, until the next step
   bool near_pairs_restored_ = false;
   bool collision_meshes_stale_ = true;      // cloths or colliders added since the last step
+  // Untangling (collision.untangle): due at the first step and after a step that did not end
+  // clean; the combined cloth mesh, and which colliders hold which cloths (a cloth that starts
+  // mostly inside a solid, as in a drum, is not pushed out of it).
+  Untangler untangler_;
+  bool untangle_due_ = true;
+  bool untangle_mesh_stale_ = true;
+  std::vector<std::vector<char>> held_;   // per cloth, per collider
+  Positions untangle_x_, untangle_push_;  // (3 x n_cloth_vertices), cloths in order
+  Positions untangle_surface_;            // a collider's triangles' corners at the step's time
+  Eigen::VectorXd untangle_inverse_mass_, untangle_margin_;
   std::vector<Positions> external_forces_;  // one per cloth (3 x n_vertices)
   double time_ = 0.0;
   StepStats stats_;

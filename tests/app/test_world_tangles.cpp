@@ -25,27 +25,6 @@ using namespace weft::testing;
 const std::string weft_program = WEFT_EXECUTABLE;
 const std::string source_dir = WEFT_SOURCE_DIR;
 
-// One stats.csv column, a value per frame.
-std::vector<double> stats_column(const fs::path& stats, const std::string& name) {
-  std::ifstream in(stats);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> header;
-  std::stringstream fields(line);
-  for (std::string field; std::getline(fields, field, ',');) header.push_back(field);
-  const auto column = std::find(header.begin(), header.end(), name) - header.begin();
-  EXPECT_LT(column, static_cast<long>(header.size())) << stats << " has no column " << name;
-  std::vector<double> values;
-  while (std::getline(in, line)) {
-    std::stringstream row(line);
-    std::string field;
-    for (long i = 0; i <= column && std::getline(row, field, ','); ++i) {
-    }
-    values.push_back(std::stod(field));
-  }
-  return values;
-}
-
 ProgramResult run_headless(const std::string& scene, const fs::path& out, const TempDir& dir,
                            const std::vector<std::string>& more = {}) {
   std::vector<std::string> command = {weft_program, "--headless", scene, "--quiet", "--out", out.string()};

@@ -1,10 +1,13 @@
 #pragma once
 // Small file helpers for tests that check what the weft program wrote.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 namespace weft::testing {
@@ -34,6 +37,27 @@ inline bool has_temporary_files(const std::filesystem::path& dir) {
     if (entry.path().filename().string().find(".tmp.") != std::string::npos) return true;
   }
   return false;
+}
+
+// One stats.csv column, a value per frame.
+inline std::vector<double> stats_column(const std::filesystem::path& stats, const std::string& name) {
+  std::ifstream in(stats);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> header;
+  std::stringstream fields(line);
+  for (std::string field; std::getline(fields, field, ',');) header.push_back(field);
+  const auto column = std::find(header.begin(), header.end(), name) - header.begin();
+  EXPECT_LT(column, static_cast<long>(header.size())) << stats << " has no column " << name;
+  std::vector<double> values;
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    std::string field;
+    for (long i = 0; i <= column && std::getline(row, field, ','); ++i) {
+    }
+    values.push_back(std::stod(field));
+  }
+  return values;
 }
 
 }  // namespace weft::testing
