@@ -43,7 +43,7 @@ std::string plot_commands(const std::string& png, const std::string& title, cons
     << "set xlabel 'frame'\n"
     << "set ylabel " << gnuplot_quote(ylabel) << "\n"
     << "set grid\n"
-    << "set key outside right\n"
+    << "set key below horizontal\n"  // under the plot, so the curves keep the width
     << "plot ";
   bool first = true;
   for (const Series& run : runs) {

@@ -89,6 +89,10 @@ class ImGuiLayer {
     ImGui::StyleColorsDark();
     // Opaque panels: the dark style's translucent ones showed another panel's text through them.
     ImGui::GetStyle().Colors[ImGuiCol_WindowBg].w = 1.0f;
+    // Thin, translucent slider handles: the value under them stays readable.
+    ImGui::GetStyle().GrabMinSize = 5.0f;
+    ImGui::GetStyle().Colors[ImGuiCol_SliderGrab].w = 0.45f;
+    ImGui::GetStyle().Colors[ImGuiCol_SliderGrabActive].w = 0.7f;
     ImGui_ImplGlfw_InitForOpenGL(window, true);
     ImGui_ImplOpenGL3_Init("#version 330 core");
   }
@@ -335,6 +339,12 @@ void place_camera(OrbitCamera& camera, const SceneView& scene_view, const World&
   camera.frame(world_bounds(world), aspect);
   if (scene_view.has_target) camera.set_target(scene_view.target);
   if (scene_view.distance > 0.0) camera.set_distance(scene_view.distance);
+  // A view chosen for a later frame still shows all of every cloth at the first.
+  Eigen::AlignedBox3d cloths;
+  for (const Cloth& cloth : world.cloths()) {
+    for (int i = 0; i < cloth.num_vertices(); ++i) cloths.extend(Vec3(cloth.state.x.col(i)));
+  }
+  camera.keep_in_view(cloths, aspect);
 }
 
 // A loaded or reset scene's first frame, checked; a tangled start is said on stderr. Returns

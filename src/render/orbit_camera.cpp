@@ -23,6 +23,25 @@ void OrbitCamera::frame(const Eigen::AlignedBox3d& box, double aspect) {
   distance_ = 1.05 * radius / std::sin(std::min(half_vertical, half_horizontal));
 }
 
+void OrbitCamera::keep_in_view(const Eigen::AlignedBox3d& box, double aspect) {
+  if (box.isEmpty()) return;
+  const Eigen::Vector3d backward = direction();
+  const Eigen::Vector3d right = Eigen::Vector3d::UnitY().cross(backward).normalized();
+  const Eigen::Vector3d up = backward.cross(right);
+  const double tan_vertical = std::tan(0.5 * vertical_fov_) / 1.15;
+  const double tan_horizontal = std::tan(0.5 * vertical_fov_) * std::max(aspect, 1e-3) / 1.15;
+  // A point p is in view when |p . right| <= depth tan and |p . up| <= depth tan, with
+  // depth = distance - p . backward (p relative to the target): a least distance per corner.
+  double needed = distance_;
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector3d p = box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(k)) - target_;
+    const double along = p.dot(backward);
+    needed = std::max(needed, std::abs(p.dot(right)) / tan_horizontal + along);
+    needed = std::max(needed, std::abs(p.dot(up)) / tan_vertical + along);
+  }
+  set_distance(needed);
+}
+
 void OrbitCamera::set_angles(double yaw, double pitch) {
   yaw_ = yaw;
   pitch_ = std::clamp(pitch, -max_pitch, max_pitch);

@@ -16,6 +16,9 @@ class OrbitCamera {
   void set_angles(double yaw, double pitch);
   void set_target(const Eigen::Vector3d& target) { target_ = target; }
   void set_distance(double distance);
+  // Moves back from the target, keeping it and the angles, until every corner of the box is in
+  // view at `aspect` with a 15% border; never moves closer.
+  void keep_in_view(const Eigen::AlignedBox3d& box, double aspect);
 
   // Turns around the target by mouse motion in pixels.
   void orbit(double dx_pixels, double dy_pixels);

@@ -6,12 +6,13 @@ namespace weft {
 
 void draw_debug_panel(SimulationSession& session, ViewerState& state) {
   ImGui::SetNextWindowPos(ImVec2(10.0f, 270.0f), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(340.0f, 0.0f), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(400.0f, 0.0f), ImGuiCond_FirstUseEver);
   if (!ImGui::Begin("Display and collisions")) {
     ImGui::End();
     return;
   }
   ViewOptions& view = state.view;
+  ImGui::PushItemWidth(180.0f);  // leaves the labels their whole width
   ImGui::TextUnformatted("Cloth");
   ImGui::SliderInt("subdivision", &view.subdivision_levels, 0, 2);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Loop subdivision levels of the displayed mesh");
@@ -38,11 +39,12 @@ void draw_debug_panel(SimulationSession& session, ViewerState& state) {
   ImGui::Checkbox("contacts", &view.contacts);
   if (view.contacts) {
     float scale = static_cast<float>(view.impulse_scale);
-    if (ImGui::SliderFloat("impulse arrows (m per N s)", &scale, 0.1f, 1e4f, "%.1f", ImGuiSliderFlags_Logarithmic)) {
+    if (ImGui::SliderFloat("arrow scale (m/N s)", &scale, 0.1f, 1e4f, "%.1f", ImGuiSliderFlags_Logarithmic)) {
       view.impulse_scale = scale;
     }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Impulse arrows' length per unit impulse");
     float longest = static_cast<float>(view.max_arrow_length);
-    if (ImGui::SliderFloat("longest arrow (of scene size)", &longest, 0.005f, 1.0f, "%.3f",
+    if (ImGui::SliderFloat("arrow cap (scene size)", &longest, 0.005f, 1.0f, "%.3f",
                            ImGuiSliderFlags_Logarithmic)) {
       view.max_arrow_length = longest;
     }
@@ -53,7 +55,7 @@ void draw_debug_panel(SimulationSession& session, ViewerState& state) {
     ImGui::PushID(static_cast<int>(c));
     ImGui::Checkbox("self-collision", &session.world().contact_material(static_cast<int>(c)).self_collision);
     ImGui::SameLine();
-    ImGui::SetNextItemWidth(160.0f);
+    ImGui::SetNextItemWidth(120.0f);
     float thickness = static_cast<float>(session.world().cloths()[c].model.thickness);
     if (ImGui::SliderFloat("thickness (m)", &thickness, 1e-4f, 0.1f, "%.4f", ImGuiSliderFlags_Logarithmic)) {
       session.world().cloths()[c].model.thickness = thickness;
@@ -72,6 +74,7 @@ void draw_debug_panel(SimulationSession& session, ViewerState& state) {
   ImGui::Checkbox("record", &state.record_frames);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Save every drawn frame as a PNG");
   if (!state.last_saved.empty()) ImGui::TextDisabled("saved %s", state.last_saved.c_str());
+  ImGui::PopItemWidth();
   if (!state.shader_message.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.45f, 0.4f, 1.0f));
     ImGui::TextWrapped("%s", state.shader_message.c_str());

@@ -22,7 +22,7 @@ bool log_slider(const char* label, double& value, float min_value, float max_val
 
 void draw_material_panel(SimulationSession& session) {
   ImGui::SetNextWindowPos(ImVec2(10.0f, 230.0f), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(440.0f, 0.0f), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(480.0f, 0.0f), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);
   if (!ImGui::Begin("Material")) {
     ImGui::End();
@@ -89,8 +89,11 @@ void draw_material_panel(SimulationSession& session) {
       changed |= log_slider("thickness (m)", material.thickness, 1e-4f, 0.1f, "%.4f");
       if (changed) apply_material(model, material);
       if (!model.membrane.enabled() || !model.bending.enabled() || !model.air_drag.enabled()) {
-        ImGui::TextDisabled("terms off in the scene file stay off (%s%s%s)", model.membrane.enabled() ? "" : "membrane ",
-                            model.bending.enabled() ? "" : "bending ", model.air_drag.enabled() ? "" : "air drag");
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        ImGui::TextWrapped(
+            "terms off in the scene file stay off: %s%s%s", model.membrane.enabled() ? "" : "membrane ",
+            model.bending.enabled() ? "" : "bending ", model.air_drag.enabled() ? "" : "air drag");
+        ImGui::PopStyleColor();
       }
       ImGui::TreePop();
     }

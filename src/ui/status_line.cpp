@@ -21,6 +21,12 @@ void draw_status_line(const SimulationSession& session, const ViewerState& state
       triangles += static_cast<int>(cloth.model.triangles.cols());
     }
     const StepStats& stats = world.last_step_stats();
+    if (!session.playing) {
+      ImGui::TextColored(ImVec4(1.0f, 0.85f, 0.3f, 1.0f), "Paused: Space or Play runs it");
+      ImGui::SameLine();
+      ImGui::TextUnformatted("|");
+      ImGui::SameLine();
+    }
     ImGui::Text("%d vertices, %d triangles | %d contacts | step %.2f ms (colliders %.2f, integrate %.2f, "
                 "collisions %.2f) | %.0f fps | %.2fx real time",
                 vertices, triangles, stats.contacts, stats.total_ms, stats.move_colliders_ms, stats.integrate_ms,
