@@ -66,7 +66,7 @@ Run run(const weft::SceneDesc& scene, int threads, const Drag* drag) {
     for (int k = 0; k < schedule.steps_per_frame; ++k) {
       world.step();
       result.unconverged += world.last_step_stats().unconverged_steps;
-      result.clean = result.clean && world.last_step_stats().collisions_clean;
+      result.clean = result.clean && world.last_step_stats().collision.clean;
     }
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }

@@ -39,7 +39,7 @@ constexpr const char* newton_log_header =
 constexpr const char* stats_header =
     "frame,time,kinetic_energy,potential_energy,gravitational_energy,elastic_energy,spring_energy,"
     "membrane_energy,bending_energy,pressure_energy,energy_dissipated,contacts,newton_iterations,"
-    "linear_iterations,accepted_steps,rejected_steps,yielded_triangles,move_colliders_ms,integrate_ms,"
+    "linear_iterations,accepted_steps,rejected_steps,yielded_triangles,prepare_collisions_ms,integrate_ms,"
     "collisions_ms,rest_update_ms,record_ms,wall_ms,steps,broad_phase_ms,narrow_phase_ms,response_ms,step_ms,"
     "vertex_face_candidates,edge_edge_candidates,proximity_contacts,ccd_impulses,impact_zone_vertices,"
     "collisions_clean,strain_limited_edges,newton_residual,unconverged_steps,external_work,dissipated_"
@@ -78,16 +78,18 @@ std::string stats_line(int frame, double time, const Energies& e, double initial
       << ',' << e.terms.membrane << ',' << e.terms.bending << ',' << e.terms.pressure << ',' << dissipated
       << ',' << s.contacts << ',' << s.newton_iterations << ',' << s.linear_iterations << ','
       << s.accepted_steps << ',' << s.rejected_steps << ',' << s.yielded_triangles << ','
-      << s.move_colliders_ms << ',' << s.integrate_ms << ',' << s.collisions_ms << ',' << s.rest_update_ms
-      << ',' << record_ms << ',' << wall_ms << ',' << s.steps << ',' << s.broad_phase_ms << ','
-      << s.narrow_phase_ms << ',' << s.response_ms << ',' << s.total_ms << ',' << s.vertex_face_candidates
-      << ',' << s.edge_edge_candidates << ',' << s.proximity_contacts << ',' << s.ccd_impulses << ','
-      << s.impact_zone_vertices << ',' << (s.collisions_clean ? 1 : 0) << ',' << s.strain_limited_edges << ','
-      << s.residual << ',' << s.unconverged_steps << ',' << flows.external_work << ',' << flows.damping << ','
-      << flows.integrator << ',' << flows.contact << ',' << flows.plastic << ',' << budget_error << ','
-      << (s.steps > 0 ? static_cast<double>(s.thread_steps) / s.steps : 0.0) << ',' << s.held_pins << ','
-      << s.edges_over_strain_limit << ',' << s.largest_collision_correction << ','
-      << s.collision_corrected_vertices << ',' << flows.residual << ',' << s.substeps << ','
+      << s.prepare_collisions_ms << ',' << s.integrate_ms << ',' << s.collisions_ms << ',' << s.rest_update_ms
+      << ',' << record_ms << ',' << wall_ms << ',' << s.steps << ',' << s.collision.broad_ms << ','
+      << s.collision.narrow_ms << ',' << s.collision.response_ms << ',' << s.total_ms << ','
+      << s.collision.vertex_face_candidates << ',' << s.collision.edge_edge_candidates << ','
+      << s.collision.proximity_contacts << ',' << s.collision.ccd_impulses << ','
+      << s.collision.impact_zone_vertices << ',' << (s.collision.clean ? 1 : 0) << ','
+      << s.collision.strain_limited_edges << ',' << s.residual << ',' << s.unconverged_steps << ','
+      << flows.external_work << ',' << flows.damping << ',' << flows.integrator << ',' << flows.contact << ','
+      << flows.plastic << ',' << budget_error << ','
+      << (s.steps > 0 ? static_cast<double>(s.thread_steps) / s.steps : 0.0) << ',' << s.collision.held_pins
+      << ',' << s.collision.edges_over_strain_limit << ',' << s.collision.largest_correction << ','
+      << s.collision.corrected_vertices << ',' << flows.residual << ',' << s.substeps << ','
       << tangles.intersecting_pairs << ',' << tangles.vertices_inside_colliders << ',' << check_ms << ','
       << s.untangled_vertices << ',' << s.untangle_ms;
   return out.str();

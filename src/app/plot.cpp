@@ -94,7 +94,7 @@ std::string plot_into(const fs::path& dir, const std::vector<Series>& runs) {
       {"column('wall_ms')", "frame"},
       {"column('integrate_ms')", "integrate"},
       {"column('collisions_ms')", "collisions"},
-      {"column('move_colliders_ms')", "move colliders"},
+      {"column('prepare_collisions_ms')", "prepare collisions"},
       {"column('record_ms')", "record"}};
   const std::vector<std::pair<std::string, std::string>> phases_sweep = {{"column('wall_ms')", "frame"}};
   const bool sweep = runs.size() > 1;
@@ -122,8 +122,8 @@ std::string plot_into(const fs::path& dir, const std::vector<Series>& runs) {
 
 // The columns plot_into reads.
 const std::vector<std::string> plotted_columns = {
-    "frame",        "kinetic_energy", "potential_energy",  "energy_dissipated", "wall_ms",
-    "integrate_ms", "collisions_ms",  "move_colliders_ms", "record_ms", "external_work"};
+    "frame",        "kinetic_energy", "potential_energy",      "energy_dissipated", "wall_ms",
+    "integrate_ms", "collisions_ms",  "prepare_collisions_ms", "record_ms",         "external_work"};
 
 // Checks a stats.csv before gnuplot sees it (gnuplot says little about a damaged file): a header
 // with the plotted columns, then rows of as many numbers. Returns "FILE: line N: ...", or empty.

@@ -13,6 +13,27 @@
 
 namespace weft {
 
+CollisionPhaseStats& CollisionPhaseStats::operator+=(const CollisionPhaseStats& other) {
+  broad_ms += other.broad_ms;
+  narrow_ms += other.narrow_ms;
+  response_ms += other.response_ms;
+  vertex_face_candidates += other.vertex_face_candidates;
+  edge_edge_candidates += other.edge_edge_candidates;
+  proximity_contacts += other.proximity_contacts;
+  ccd_impulses += other.ccd_impulses;
+  impact_zone_vertices += other.impact_zone_vertices;
+  held_pins += other.held_pins;
+  immovable_collisions += other.immovable_collisions;
+  edges_over_strain_limit += other.edges_over_strain_limit;
+  strain_limited_edges += other.strain_limited_edges;
+  largest_correction = std::max(largest_correction, other.largest_correction);
+  corrected_vertices += other.corrected_vertices;
+  bvh_rebuilds += other.bvh_rebuilds;
+  rounds += other.rounds;
+  clean = clean && other.clean;
+  return *this;
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;

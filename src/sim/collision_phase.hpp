@@ -109,6 +109,10 @@ struct CollisionPhaseStats {
   int rounds = 0;     // CCD + zone rounds run
   bool clean = true;  // the final motion had no collision among the last candidates (and no pin
                       // was held); edges over the strain limit are counted apart
+
+  // Sums the counts and times of `other` into this (the largest correction keeps the larger; clean
+  // only when both are).
+  CollisionPhaseStats& operator+=(const CollisionPhaseStats& other);
 };
 
 // One collider as the phase sees it: its surface at time 0 and its motion.

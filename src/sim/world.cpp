@@ -87,9 +87,9 @@ void World::step() {
     if (barrier) {
       prepare_barrier();
     } else {
-      move_colliders(h);
+      prepare_collisions(h);
     }
-    stats.move_colliders_ms += milliseconds_since(phase_start);
+    stats.prepare_collisions_ms += milliseconds_since(phase_start);
 
     phase_start = Clock::now();
     integrate(h, substep, stats);
@@ -104,7 +104,7 @@ void World::step() {
     stats.yielded_triangles += update_rest_state(stats.energy_flows);
     stats.rest_update_ms += milliseconds_since(phase_start);
   }
-  if (!stats.collisions_clean) untangle_due_ = true;  // the step may have left cloth through cloth
+  if (!stats.collision.clean) untangle_due_ = true;  // the step may have left cloth through cloth
   stats.total_ms = milliseconds_since(step_start);
   stats.steps = 1;
   stats.substeps = substeps;
@@ -306,7 +306,7 @@ void World::prepare_barrier() {
 
 // Kinematic colliders follow their scripted motion: the collision phase poses them at both ends
 // of the step (t and t + h), and the step starts from the cloths' current positions.
-void World::move_colliders(double /*h*/) {
+void World::prepare_collisions(double /*h*/) {
   if (collision_meshes_stale_) {
     std::vector<ColliderSurface> surfaces;
     for (size_t k = 0; k < colliders_.size(); ++k) {
@@ -425,9 +425,9 @@ void World::integrate_cloth(int index, double h, int substep, StepStats& stats) 
       if (contact != nullptr) {
         const SolveContactReport& found = contact->report();
         stats.contacts += found.pairs;
-        stats.proximity_contacts += found.pairs;
-        stats.vertex_face_candidates += found.vertex_face_candidates;
-        stats.edge_edge_candidates += found.edge_edge_candidates;
+        stats.collision.proximity_contacts += found.pairs;
+        stats.collision.vertex_face_candidates += found.vertex_face_candidates;
+        stats.collision.edge_edge_candidates += found.edge_edge_candidates;
       }
       stats.newton_iterations += report.newton_iterations;
       stats.linear_iterations += report.linear_iterations;
@@ -473,7 +473,7 @@ void World::resolve_collisions(double h, StepStats& stats) {
   }
   phase.gather_motion(cloths_, time_, h);
   if (!phase.motion_is_valid()) {
-    stats.collisions_clean = false;  // diverged: left to the caller's divergence check
+    stats.collision.clean = false;  // diverged: left to the caller's divergence check
     return;
   }
   // The collision phase's change of energy is the contact term of the budget; the solve left
@@ -510,22 +510,11 @@ void World::resolve_collisions(double h, StepStats& stats) {
     stats.energy_flows.contact += energy_before - energy_after;
   }
 
-  const CollisionPhaseStats& totals = phase.stats();  // summed over the sub-steps so far
-  stats.broad_phase_ms = totals.broad_ms;
-  stats.narrow_phase_ms = totals.narrow_ms;
-  stats.response_ms = totals.response_ms;
-  stats.vertex_face_candidates = totals.vertex_face_candidates;
-  stats.edge_edge_candidates = totals.edge_edge_candidates;
-  stats.proximity_contacts = totals.proximity_contacts;
-  stats.ccd_impulses = totals.ccd_impulses;
-  stats.impact_zone_vertices = totals.impact_zone_vertices;
-  stats.held_pins = totals.held_pins;
-  stats.edges_over_strain_limit = totals.edges_over_strain_limit;
-  stats.strain_limited_edges = totals.strain_limited_edges;
-  stats.largest_collision_correction = totals.largest_correction;
-  stats.collision_corrected_vertices = totals.corrected_vertices;
-  stats.contacts = totals.proximity_contacts + totals.ccd_impulses;
-  stats.collisions_clean = stats.collisions_clean && totals.clean;
+  // The phase sums its stats over the sub-steps so far; the step keeps whether any was unclean.
+  const bool clean_so_far = stats.collision.clean;
+  stats.collision = phase.stats();
+  stats.collision.clean = clean_so_far && phase.stats().clean;
+  stats.contacts = stats.collision.proximity_contacts + stats.collision.ccd_impulses;
 }
 
 Energies World::energies() const {
@@ -544,28 +533,15 @@ Energies World::energies() const {
 }
 
 StepStats& StepStats::operator+=(const StepStats& step) {
-  move_colliders_ms += step.move_colliders_ms;
+  prepare_collisions_ms += step.prepare_collisions_ms;
   integrate_ms += step.integrate_ms;
   collisions_ms += step.collisions_ms;
   total_ms += step.total_ms;
   rest_update_ms += step.rest_update_ms;
-  broad_phase_ms += step.broad_phase_ms;
-  narrow_phase_ms += step.narrow_phase_ms;
-  response_ms += step.response_ms;
+  collision += step.collision;
   steps += step.steps;
   substeps += step.substeps;
   contacts += step.contacts;
-  vertex_face_candidates += step.vertex_face_candidates;
-  edge_edge_candidates += step.edge_edge_candidates;
-  proximity_contacts += step.proximity_contacts;
-  ccd_impulses += step.ccd_impulses;
-  impact_zone_vertices += step.impact_zone_vertices;
-  held_pins += step.held_pins;
-  edges_over_strain_limit += step.edges_over_strain_limit;
-  strain_limited_edges += step.strain_limited_edges;
-  largest_collision_correction = std::max(largest_collision_correction, step.largest_collision_correction);
-  collision_corrected_vertices += step.collision_corrected_vertices;
-  collisions_clean = collisions_clean && step.collisions_clean;
   yielded_triangles += step.yielded_triangles;
   untangled_vertices += step.untangled_vertices;
   tangled_crossings = step.tangled_crossings;

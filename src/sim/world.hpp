@@ -55,33 +55,19 @@ struct Energies {
 
 // Wall-clock milliseconds per phase of the last World::step(), and what it found.
 struct StepStats {
-  double move_colliders_ms = 0.0;
+  double prepare_collisions_ms = 0.0;
   double integrate_ms = 0.0;
   double collisions_ms = 0.0;
-  double broad_phase_ms = 0.0;   // collision: BVH refit/rebuild, pair queries, candidates
-  double narrow_phase_ms = 0.0;  // collision: proximity and continuous tests
-  double response_ms = 0.0;      // collision: impulses, friction, impact zones
   double rest_update_ms = 0.0;
   double total_ms = 0.0;
   int steps = 0;                   // World::step() calls summed here (1 for one step)
   int substeps = 0;                // integration sub-steps taken (settings.substeps a step, or more
                                    // where settings.max_travel_edges cut it finer)
   int contacts = 0;                // contacts acted on (proximity + CCD impulses), summed over sub-steps
-  int vertex_face_candidates = 0;  // primitive pairs from the broad phase
-  int edge_edge_candidates = 0;
-  int proximity_contacts = 0;       // pairs repelled within the thickness
-  int ccd_impulses = 0;             // continuous collisions acted on
-  int impact_zone_vertices = 0;     // vertices moved rigidly by impact zones
-  int edges_over_strain_limit = 0;  // cloth edges over collision.strain_limit at the end of the step (a
-                                    // step can be clean, free of collisions, and leave some)
-  int held_pins = 0;                // cloth pins held at their start, lagging their script, because
-                                    // nothing else kept cloth from passing through cloth
-                                    // (collision/impact_zones.hpp); such a step is not clean
-  int strain_limited_edges = 0;     // edge corrections by strain limiting (collision.strain_limit)
-  double largest_collision_correction = 0.0;  // m: farthest the collision phase moved a cloth vertex
-                                              // from where the integrator put it (max over steps)
-  int collision_corrected_vertices = 0;       // cloth vertices it moved by over 1% of their thickness
-  bool collisions_clean = true;   // every sub-step ended without a detected collision (and no pin held)
+  // The collision phase's counts and times (impulse response), or the barrier's pairs and
+  // candidates (barrier response: proximity_contacts and the candidate counts only); `clean`: every
+  // sub-step ended without a detected collision (and no pin held).
+  CollisionPhaseStats collision;
   int newton_iterations = 0;      // implicit Euler, summed over cloths and sub-steps
   int linear_iterations = 0;      // conjugate-gradient iterations, summed likewise
   int accepted_steps = 0;         // adaptive stepping: steps taken
@@ -183,7 +169,7 @@ class World {
   void push_out_of_colliders(Positions& displacement, int& moved);
   int substeps_for_step();
   void prepare_barrier();
-  void move_colliders(double h);
+  void prepare_collisions(double h);
   void integrate(double h, int substep, StepStats& stats);
   void resolve_collisions(double h, StepStats& stats);
   int update_rest_state(EnergyFlows& flows);

@@ -38,7 +38,7 @@ void draw_plots_panel(const ViewerState& state) {
                    ImVec2(0.0f, 50.0f));
   plot("integrate", history.integrate_ms, "ms");
   plot("collisions", history.collisions_ms, "ms");
-  plot("colliders", history.move_colliders_ms, "ms");
+  plot("prepare collisions", history.prepare_collisions_ms, "ms");
   plot("Newton its", history.newton_iterations, "");
   ImGui::End();
 }

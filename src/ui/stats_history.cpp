@@ -33,12 +33,13 @@ void StatsHistory::record(const World& world) {
   potential.push(static_cast<float>(energies.gravitational + energies.elastic));
   integrate_ms.push(static_cast<float>(stats.integrate_ms));
   collisions_ms.push(static_cast<float>(stats.collisions_ms));
-  move_colliders_ms.push(static_cast<float>(stats.move_colliders_ms));
+  prepare_collisions_ms.push(static_cast<float>(stats.prepare_collisions_ms));
   newton_iterations.push(static_cast<float>(stats.newton_iterations));
 }
 
 void StatsHistory::clear() {
-  for (Series* series : {&kinetic, &potential, &integrate_ms, &collisions_ms, &move_colliders_ms, &newton_iterations}) {
+  for (Series* series :
+       {&kinetic, &potential, &integrate_ms, &collisions_ms, &prepare_collisions_ms, &newton_iterations}) {
     series->clear();
   }
 }

@@ -27,7 +27,7 @@ class Series {
 
 struct StatsHistory {
   Series kinetic, potential;      // J
-  Series integrate_ms, collisions_ms, move_colliders_ms;  // per step, ms
+  Series integrate_ms, collisions_ms, prepare_collisions_ms;  // per step, ms
   Series newton_iterations;       // per step
 
   // One sample per drawn frame in which the world stepped: energies now, the last step's stats.

@@ -27,18 +27,19 @@ void draw_status_line(const SimulationSession& session, const ViewerState& state
       ImGui::TextUnformatted("|");
       ImGui::SameLine();
     }
-    ImGui::Text("%d vertices, %d triangles | %d contacts | step %.2f ms (colliders %.2f, integrate %.2f, "
-                "collisions %.2f) | %.0f fps | %.2fx real time",
-                vertices, triangles, stats.contacts, stats.total_ms, stats.move_colliders_ms, stats.integrate_ms,
-                stats.collisions_ms, state.frames_per_second, state.real_time_factor);
+    ImGui::Text(
+        "%d vertices, %d triangles | %d contacts | step %.2f ms (prepare %.2f, integrate %.2f, "
+        "collisions %.2f) | %.0f fps | %.2fx real time",
+        vertices, triangles, stats.contacts, stats.total_ms, stats.prepare_collisions_ms, stats.integrate_ms,
+        stats.collisions_ms, state.frames_per_second, state.real_time_factor);
     if (stats.unconverged_steps > 0) {  // the last step's implicit solve stopped short of its tolerance
       ImGui::SameLine();
       ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.2f, 1.0f), "| Newton unconverged (residual %.2g m/s)",
                          stats.residual);
     }
-    if (stats.held_pins > 0) {  // the collision response's last resort stopped pins on their script
+    if (stats.collision.held_pins > 0) {  // the collision response's last resort stopped pins on their script
       ImGui::SameLine();
-      ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.2f, 1.0f), "| %d pins held back", stats.held_pins);
+      ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.2f, 1.0f), "| %d pins held back", stats.collision.held_pins);
     }
     if (state.hover.valid) {
       const Cloth& cloth = world.cloths()[static_cast<size_t>(state.hover.cloth)];

@@ -178,7 +178,8 @@ TEST(Checkpoint, ContactPenaltyPairsAreRestoredAndTheRunContinuesBitIdentically)
   const auto make = [] { return sheet_over_ball(R"({"penalty_stiffness": 1000})", 0.32); };
   World original = make();
   for (int step = 0; step < 60; ++step) original.step();
-  ASSERT_GT(original.last_step_stats().proximity_contacts, 0) << "the test needs the cloth on the sphere";
+  ASSERT_GT(original.last_step_stats().collision.proximity_contacts, 0)
+      << "the test needs the cloth on the sphere";
   ASSERT_FALSE(original.contact_history().empty());
   write_checkpoint(dir.file("checkpoint.bin"), capture_checkpoint(original, 1, "{}", 0.0));
   const Checkpoint read = read_checkpoint(dir.file("checkpoint.bin"));
@@ -214,13 +215,16 @@ TEST(Checkpoint, ColliderContactsInTheSolveContinueBitIdentically) {
     original.step();
     ++steps;
   }
-  ASSERT_EQ(original.last_step_stats().proximity_contacts, 0) << "the checkpoint must come before contact";
+  ASSERT_EQ(original.last_step_stats().collision.proximity_contacts, 0)
+      << "the checkpoint must come before contact";
   write_checkpoint(dir.file("checkpoint.bin"), capture_checkpoint(original, 1, "{}", 0.0));
   World resumed = make();
   restore_checkpoint(read_checkpoint(dir.file("checkpoint.bin")), resumed, "checkpoint.bin");
   original.step();
   resumed.step();
-  EXPECT_GT(original.last_step_stats().proximity_contacts + original.last_step_stats().ccd_impulses, 0)
+  EXPECT_GT(original.last_step_stats().collision.proximity_contacts +
+                original.last_step_stats().collision.ccd_impulses,
+            0)
       << "the cloth reached the sphere in the first step after the checkpoint";
   EXPECT_TRUE(resumed.cloths()[0].state.x == original.cloths()[0].state.x);
   for (int step = 0; step < 20; ++step) {

@@ -44,8 +44,9 @@ TEST(CollisionPhase, AClothThrownFasterThanAStepStopsOnAThinBox) {
     totals += world.last_step_stats();
   }
   EXPECT_GT(world.cloths()[0].state.x.row(1).minCoeff(), 0.001);
-  EXPECT_GT(totals.vertex_face_candidates, 0);  // the box was seen (self pairs of the flat sheet are culled)
-  EXPECT_TRUE(world.last_step_stats().collisions_clean);
+  EXPECT_GT(totals.collision.vertex_face_candidates,
+            0);  // the box was seen (self pairs of the flat sheet are culled)
+  EXPECT_TRUE(world.last_step_stats().collision.clean);
 }
 
 // stats.csv's collision_correction_max and collision_corrected_vertices: the thrown cloth's first
@@ -74,14 +75,14 @@ TEST(CollisionPhase, CorrectionsMeasureHowFarTheResponseMovedTheIntegratorsMotio
   }
   ASSERT_GT(end.row(1).minCoeff(), 0.001) << "stopped on the box";
   EXPECT_GT(largest, 0.1);
-  EXPECT_NEAR(thrown.last_step_stats().largest_collision_correction, largest, 1e-12);
-  EXPECT_EQ(thrown.last_step_stats().collision_corrected_vertices, moved);
+  EXPECT_NEAR(thrown.last_step_stats().collision.largest_correction, largest, 1e-12);
+  EXPECT_EQ(thrown.last_step_stats().collision.corrected_vertices, moved);
   EXPECT_EQ(moved, start.cols());
 
   World falling = world_of("{" + solver + "," + cloth + "}");
   for (int k = 0; k < 3; ++k) falling.step();
-  EXPECT_EQ(falling.last_step_stats().largest_collision_correction, 0.0);
-  EXPECT_EQ(falling.last_step_stats().collision_corrected_vertices, 0);
+  EXPECT_EQ(falling.last_step_stats().collision.largest_correction, 0.0);
+  EXPECT_EQ(falling.last_step_stats().collision.corrected_vertices, 0);
 }
 
 // Largest |x_j - x_i| / rest - 1 over the cloth's edges.
@@ -123,8 +124,8 @@ TEST(CollisionPhase, StrainLimitBoundsTheStretchTheImpulsesLeave) {
     run(limited, 1, limited_invariants);
     free_strain = std::max(free_strain, largest_edge_strain(free.cloths()[0]));
     EXPECT_LE(largest_edge_strain(limited.cloths()[0]), 1.2 * (1.0 + 1e-3) - 1.0 + 1e-12) << "step " << k;
-    EXPECT_TRUE(limited.last_step_stats().collisions_clean) << "step " << k;
-    corrections += limited.last_step_stats().strain_limited_edges;
+    EXPECT_TRUE(limited.last_step_stats().collision.clean) << "step " << k;
+    corrections += limited.last_step_stats().collision.strain_limited_edges;
   }
   EXPECT_GT(free_strain, 1.0) << "the scene must stretch the cloth for the limit to matter";
   EXPECT_GT(corrections, 0);
@@ -142,14 +143,15 @@ TEST(CollisionPhase, RecordsSayWhatTouchedWhat) {
   ASSERT_FALSE(world.contacts().empty());
   const StepStats& stats = world.last_step_stats();
   EXPECT_EQ(stats.contacts, static_cast<int>(world.contacts().size()));
-  EXPECT_EQ(stats.contacts, stats.proximity_contacts + stats.ccd_impulses);
+  EXPECT_EQ(stats.contacts, stats.collision.proximity_contacts + stats.collision.ccd_impulses);
   for (const ContactRecord& record : world.contacts()) {
     EXPECT_EQ(record.partners, ContactPartners::cloth_solid);
     EXPECT_GT(record.impulse, 0.0);
     EXPECT_LT(std::abs(record.position.y()), 0.03);
   }
-  EXPECT_GE(stats.broad_phase_ms + stats.narrow_phase_ms + stats.response_ms, 0.0);
-  EXPECT_LE(stats.broad_phase_ms + stats.narrow_phase_ms + stats.response_ms, stats.collisions_ms + 1e-9);
+  EXPECT_GE(stats.collision.broad_ms + stats.collision.narrow_ms + stats.collision.response_ms, 0.0);
+  EXPECT_LE(stats.collision.broad_ms + stats.collision.narrow_ms + stats.collision.response_ms,
+            stats.collisions_ms + 1e-9);
   // Every vertex stays above the plane, and none moves down any more.
   for (int i = 0; i < world.cloths()[0].num_vertices(); ++i) {
     EXPECT_GT(world.cloths()[0].state.x(1, i), 0.0);
@@ -220,7 +222,7 @@ TEST(CollisionPhase, AColliderDrivenThroughPinnedClothIsNotReportedClean) {
   std::vector<int> unclean_steps;
   for (int k = 0; k < 30; ++k) {  // the top reaches the cloth in step 6, the bottom leaves it in step 26
     world.step();
-    if (!world.last_step_stats().collisions_clean) unclean_steps.push_back(k);
+    if (!world.last_step_stats().collision.clean) unclean_steps.push_back(k);
   }
   EXPECT_TRUE(world.cloths()[0].state.x == start) << "pins stay where they are";
   ASSERT_FALSE(unclean_steps.empty());

@@ -166,7 +166,7 @@ TEST(CollisionScenes, FiveTurnTwistStaysCleanAndReportsEveryEdgeOverTheStrainLim
     ASSERT_EQ(report.intersecting_pairs, 0) << "frame " << frame << ": " << report.first;
     ASSERT_EQ(report.vertices_crossed, 0) << "frame " << frame << ": " << report.first;
     if (report.edges_over_limit > 0) {
-      ASSERT_GT(world.last_step_stats().edges_over_strain_limit, 0)
+      ASSERT_GT(world.last_step_stats().collision.edges_over_strain_limit, 0)
           << "frame " << frame
           << " ends over the strain limit after a step that counted no such edge: " << report.first;
     }
@@ -318,11 +318,11 @@ TEST(CollisionScenes, DrapeKeepsFallingThroughItsFirstContact) {
   for (int frame = 1; frame <= 11; ++frame) {
     for (int step = 0; step < schedule.steps_per_frame; ++step) {
       world.step();
-      zone_vertices = std::max(zone_vertices, world.last_step_stats().impact_zone_vertices);
+      zone_vertices = std::max(zone_vertices, world.last_step_stats().collision.impact_zone_vertices);
     }
     energy.push_back(kinetic_energy(world.cloths()[0]));
   }
-  EXPECT_GT(world.last_step_stats().proximity_contacts, 0) << "the cloth reached the sphere";
+  EXPECT_GT(world.last_step_stats().collision.proximity_contacts, 0) << "the cloth reached the sphere";
   EXPECT_GT(energy[9], 0.9 * energy[8]) << "frame 10 against frame 9";
   EXPECT_GT(energy[10], energy[9]) << "frame 11 against frame 10";
   EXPECT_LT(zone_vertices, 100);
