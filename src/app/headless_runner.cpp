@@ -15,6 +15,7 @@
 #include "app/progress.hpp"
 #include "app/world_tangles.hpp"
 #include "core/error.hpp"
+#include "core/phase_timer.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv_log.hpp"
@@ -28,7 +29,7 @@ namespace weft {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
+using Clock = PhaseClock;
 
 constexpr const char* checkpoint_file = "checkpoint.bin";
 // --newton-log: one row per Newton iteration of every implicit Euler step (docs/recording.md).
@@ -59,10 +60,6 @@ void install_stop_handlers() {
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
-}
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
 // `flows` are summed from frame 0; budget_error = energy now + dissipated - energy at frame 0 -
@@ -469,15 +466,16 @@ int Run::record_and_step() {
     // The exact check of the frame's state; frame 0's is said when it is tangled.
     const auto check_start = Clock::now();
     const TangleReport report = tangles.check(world_);
-    const double check_ms = ms_since(check_start);
+    const double check_ms = milliseconds_since(check_start);
     if (frame == 0) say_if_tangled_at_start(scene_file_, report, tangles.input());
     const auto record_start = Clock::now();
     recording.write_frame(frame, world_);
     const Energies energies = world_.energies();
-    const double record_ms = ms_since(record_start);
+    const double record_ms = milliseconds_since(record_start);
     energy_flows_ += steps.energy_flows;
     stats_rows_.push_back(stats_line(frame, world_.time(), energies, initial_energy_, energy_flows_, steps,
-                                     report, check_ms, record_ms, frame == 0 ? 0.0 : ms_since(frame_start)));
+                                     report, check_ms, record_ms,
+                                     frame == 0 ? 0.0 : milliseconds_since(frame_start)));
     stats_log_.append(stats_rows_.back());
     flush_newton_rows();
     frames_written_ = frame + 1;

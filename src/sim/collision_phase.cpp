@@ -10,6 +10,7 @@
 #include "collision/edge_edge.hpp"
 #include "collision/point_triangle.hpp"
 #include "collision/proximity_response.hpp"
+#include "core/phase_timer.hpp"
 
 namespace weft {
 
@@ -33,16 +34,6 @@ CollisionPhaseStats& CollisionPhaseStats::operator+=(const CollisionPhaseStats& 
   clean = clean && other.clean;
   return *this;
 }
-
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double milliseconds_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-}  // namespace
 
 void CollisionPhase::set_meshes(const std::vector<Cloth>& cloths, const std::vector<ContactMaterial>& materials,
                                 const std::vector<ColliderSurface>& colliders) {
@@ -258,7 +249,7 @@ void CollisionPhase::drop_immovable_pairs(CollisionCandidates& candidates,
 
 // Phase: broad phase.
 void CollisionPhase::find_candidates() {
-  const auto start = Clock::now();
+  const auto start = PhaseClock::now();
   refit_bounding_volumes();
   query_candidates(candidates_);
   stats_.vertex_face_candidates += static_cast<int>(candidates_.vertex_face.size());
@@ -316,7 +307,7 @@ int CollisionPhase::edge_edge_group(const EdgeEdgePair& pair) const {
 // Phase: pairs closer than their thickness at the start of the step (tested in parallel), then
 // repulsion and friction impulses group by group of material pairs.
 void CollisionPhase::apply_proximity() {
-  auto start = Clock::now();
+  auto start = PhaseClock::now();
   const auto& vertex_faces = candidates_.vertex_face;
   const auto& edge_edges = candidates_.edge_edge;
   near_vertex_face_.assign(vertex_faces.size(), 0);
@@ -374,7 +365,7 @@ void CollisionPhase::apply_proximity() {
   }
   stats_.narrow_ms += milliseconds_since(start);
 
-  start = Clock::now();
+  start = PhaseClock::now();
   CollisionStep step = make_step();
   const size_t first_record = records_.size();
   for (int group = 0; group < num_groups; ++group) {
@@ -392,7 +383,7 @@ void CollisionPhase::apply_proximity() {
 // motion it changed has not been tested for collisions, so the step is not clean until it is.
 void CollisionPhase::limit_strain() {
   if (!(settings.strain_limit > 0.0)) return;
-  const auto start = Clock::now();
+  const auto start = PhaseClock::now();
   CollisionStep step = make_step();
   const StrainLimitResult result =
       limit_edge_strain(step, edge_rest_length_, settings.strain_limit, settings.strain_limit_sweeps);
@@ -573,7 +564,7 @@ void CollisionPhase::apply_ccd_impulses() {
   clean_snapshot_ = false;
   const CollisionCandidates* tested = &candidates_;
   for (int pass = 0; pass < settings.max_ccd_passes; ++pass) {
-    auto start = Clock::now();
+    auto start = PhaseClock::now();
     detect_collisions(step, tested->vertex_face, tested->edge_edge, response, collisions_);
     stats_.narrow_ms += milliseconds_since(start);
     if (collisions_.empty()) {
@@ -582,7 +573,7 @@ void CollisionPhase::apply_ccd_impulses() {
       clean_snapshot_ = true;
       break;
     }
-    start = Clock::now();
+    start = PhaseClock::now();
     for (const CcdCollision& collision : collisions_.found) {
       ContactRecord record = ccd_contact_record(step, collision, 0.0, response);  // before the motion changes
       record.impulse = apply_ccd_impulse(step, collision, response);
@@ -593,7 +584,7 @@ void CollisionPhase::apply_ccd_impulses() {
     }
     stats_.response_ms += milliseconds_since(start);
     if (pass + 1 < settings.max_ccd_passes) {
-      start = Clock::now();
+      start = PhaseClock::now();
       retest_flags_.assign(x_end_.cols(), 0);
       for (const CcdCollision& collision : collisions_.found) {
         for (const int v : collision.stencil.vertices) {
@@ -631,7 +622,7 @@ void CollisionPhase::list_pairs_touching(const std::vector<char>& flags, Collisi
 // whenever the limit may not hold.
 void CollisionPhase::apply_impact_zones() {
   if (stats_.clean) return;
-  const auto start = Clock::now();
+  const auto start = PhaseClock::now();
   CollisionStep step = make_step();
   // With a strain limit, edges still over it join zones too (impact_zones.hpp).
   const StrainBound strain{edge_rest_length_, settings.strain_limit};
@@ -674,7 +665,7 @@ void CollisionPhase::apply_impact_zones() {
 // of two unchanged boxes were candidates already. Only the new pairs need testing when the last
 // detection over the old ones was clean.
 bool CollisionPhase::verify_motion() {
-  auto start = Clock::now();
+  auto start = PhaseClock::now();
   const double slack = std::max(0.0, 0.5 * (max_thickness_ - settings.ccd_tolerance));
   escaped_vertices_.clear();
   for (int v = 0; v < x_end_.cols(); ++v) {
@@ -708,7 +699,7 @@ bool CollisionPhase::verify_motion() {
   merge_new_candidates(candidates_, verify_candidates_);
   stats_.broad_ms += milliseconds_since(start);
 
-  start = Clock::now();
+  start = PhaseClock::now();
   const CollisionCandidates& tested = stats_.clean ? verify_candidates_ : candidates_;
   CollisionStep step = make_step();
   detect_collisions(step, tested.vertex_face, tested.edge_edge, ccd_settings(), collisions_);
@@ -789,7 +780,7 @@ void CollisionPhase::query_escaped_candidates(CollisionCandidates& candidates) {
 
 void CollisionPhase::check_immovable_pairs() {
   if (immovable_candidates_.vertex_face.empty() && immovable_candidates_.edge_edge.empty()) return;
-  const auto start = Clock::now();
+  const auto start = PhaseClock::now();
   detect_collisions(make_step(), immovable_candidates_.vertex_face, immovable_candidates_.edge_edge,
                     ccd_settings(), collisions_);
   stats_.narrow_ms += milliseconds_since(start);

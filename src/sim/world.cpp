@@ -12,21 +12,12 @@
 
 #include "collision/collider_geometry.hpp"
 #include "collision/collider_push_out.hpp"
+#include "core/phase_timer.hpp"
 #include "core/topology.hpp"
 #include "physics/cloth_terms.hpp"
 #include "physics/symplectic_euler.hpp"
 
 namespace weft {
-
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double milliseconds_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-}  // namespace
 
 void World::add_cloth(Cloth cloth, ContactMaterial material) {
   external_forces_.push_back(Positions::Zero(3, cloth.num_vertices()));
@@ -66,7 +57,7 @@ Positions World::collider_positions(int collider) const {
 // One time step, as the pipeline in docs/architecture.md: colliders, integrator, collisions,
 // rest state, stats.
 void World::step() {
-  const auto step_start = Clock::now();
+  const auto step_start = PhaseClock::now();
   StepStats stats;
   newton_log_.clear();
   // Threads for our loops and for Eigen's sparse products (row-parallel, so results do not
@@ -79,30 +70,32 @@ void World::step() {
   const double h = settings.time_step / substeps;
   collisions_.reset_stats();
   const bool barrier = barrier_response();
-  auto untangle_start = Clock::now();
-  untangle(stats);
-  stats.untangle_ms = milliseconds_since(untangle_start);
+  {
+    PhaseTimer timer(stats.untangle_ms);
+    untangle(stats);
+  }
   for (int substep = 0; substep < substeps; ++substep) {
-    auto phase_start = Clock::now();
-    if (barrier) {
-      prepare_barrier();
-    } else {
-      prepare_collisions(h);
+    {
+      PhaseTimer timer(stats.prepare_collisions_ms);
+      if (barrier) {
+        prepare_barrier();
+      } else {
+        prepare_collisions(h);
+      }
     }
-    stats.prepare_collisions_ms += milliseconds_since(phase_start);
-
-    phase_start = Clock::now();
-    integrate(h, substep, stats);
-    stats.integrate_ms += milliseconds_since(phase_start);
-
-    phase_start = Clock::now();
-    if (!barrier) resolve_collisions(h, stats);
-    stats.collisions_ms += milliseconds_since(phase_start);
-
+    {
+      PhaseTimer timer(stats.integrate_ms);
+      integrate(h, substep, stats);
+    }
+    {
+      PhaseTimer timer(stats.collisions_ms);
+      if (!barrier) resolve_collisions(h, stats);
+    }
     time_ += h;
-    phase_start = Clock::now();
-    stats.yielded_triangles += update_rest_state(stats.energy_flows);
-    stats.rest_update_ms += milliseconds_since(phase_start);
+    {
+      PhaseTimer timer(stats.rest_update_ms);
+      stats.yielded_triangles += update_rest_state(stats.energy_flows);
+    }
   }
   if (!stats.collision.clean) untangle_due_ = true;  // the step may have left cloth through cloth
   stats.total_ms = milliseconds_since(step_start);
