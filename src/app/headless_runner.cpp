@@ -199,6 +199,13 @@ class Run {
  private:
   int load();
   int record_and_step();
+  void open_outputs(RecordingWriter& recording);
+  void record_frame(int frame, const StepStats& steps, Clock::time_point frame_start, RecordingWriter& recording,
+                    WorldTangles& tangles);
+  Instability step_frame(int frame, const FrameSchedule& schedule, ProgressReporter& progress,
+                         StepStats& frame_steps);
+  int stop_diverged(int frame, const Instability& problem, const StepStats& frame_steps, ProgressReporter& progress);
+  int finish_run();
   void write_run_json(const std::string& status) const;
   void write_summary(const std::string& status, int exit_code, const nlohmann::json& failure = nullptr) const;
   void write_checkpoint_now(int frame) const;
@@ -426,9 +433,9 @@ void Run::say_replacing_a_run() const {
                what.c_str(), out_.c_str());
 }
 
-int Run::record_and_step() {
-  const FrameSchedule schedule = frame_schedule(scene_.fps, scene_.time_step);
-  RecordingWriter recording(out_.string(), format_, scene_.frames, scene_.fps);
+// The recording, stats.csv and newton.csv opened: created for a new run (an earlier run's files
+// replaced), or reopened at the checkpoint's frame for a resumed one.
+void Run::open_outputs(RecordingWriter& recording) {
   std::error_code ignored;
   // summary.json is written at the end: one left from an earlier run, or from the first part of
   // this one, would speak for this run until then, and for ever if it is killed.
@@ -460,93 +467,95 @@ int Run::record_and_step() {
     std::fprintf(stderr, "weft: resumed from frame %d of %d (%s)\n", first_frame_ - 1, scene_.frames,
                  (out_ / checkpoint_file).c_str());
   }
+}
 
-  WorldTangles tangles;
-  const auto record = [&](int frame, const StepStats& steps, Clock::time_point frame_start) {
-    // The exact check of the frame's state; frame 0's is said when it is tangled.
-    const auto check_start = Clock::now();
-    const TangleReport report = tangles.check(world_);
-    const double check_ms = milliseconds_since(check_start);
-    if (frame == 0) say_if_tangled_at_start(scene_file_, report, tangles.input());
-    const auto record_start = Clock::now();
-    recording.write_frame(frame, world_);
-    const Energies energies = world_.energies();
-    const double record_ms = milliseconds_since(record_start);
-    energy_flows_ += steps.energy_flows;
-    stats_rows_.push_back(stats_line(frame, world_.time(), energies, initial_energy_, energy_flows_, steps,
-                                     report, check_ms, record_ms,
-                                     frame == 0 ? 0.0 : milliseconds_since(frame_start)));
-    stats_log_.append(stats_rows_.back());
-    flush_newton_rows();
-    frames_written_ = frame + 1;
-    if (options_.checkpoint_every > 0 && frame > 0 && frame % options_.checkpoint_every == 0) {
-      write_checkpoint_now(frame);
-    }
-  };
+// One frame recorded: the exact tangle check of its state (frame 0's said when tangled), the
+// recording, the stats row, the frame's Newton rows and, when due, a checkpoint.
+void Run::record_frame(int frame, const StepStats& steps, Clock::time_point frame_start, RecordingWriter& recording,
+                       WorldTangles& tangles) {
+  // The exact check of the frame's state; frame 0's is said when it is tangled.
+  const auto check_start = Clock::now();
+  const TangleReport report = tangles.check(world_);
+  const double check_ms = milliseconds_since(check_start);
+  if (frame == 0) say_if_tangled_at_start(scene_file_, report, tangles.input());
+  const auto record_start = Clock::now();
+  recording.write_frame(frame, world_);
+  const Energies energies = world_.energies();
+  const double record_ms = milliseconds_since(record_start);
+  energy_flows_ += steps.energy_flows;
+  stats_rows_.push_back(stats_line(frame, world_.time(), energies, initial_energy_, energy_flows_, steps,
+                                   report, check_ms, record_ms,
+                                   frame == 0 ? 0.0 : milliseconds_since(frame_start)));
+  stats_log_.append(stats_rows_.back());
+  flush_newton_rows();
+  frames_written_ = frame + 1;
+  if (options_.checkpoint_every > 0 && frame > 0 && frame % options_.checkpoint_every == 0) {
+    write_checkpoint_now(frame);
+  }
+}
 
-  install_stop_handlers();
-  ProgressReporter progress(scene_.frames, !options_.quiet);
-  // A resumed run's line counts from the frames already recorded.
-  progress.add_unconverged_steps(summarise(stats_rows_, "", 0, scene_.frames)["unconverged_steps"].get<int>());
-  if (first_frame_ == 0) record(0, StepStats{}, Clock::now());
-  for (int frame = std::max(1, first_frame_); frame <= scene_.frames; ++frame) {
-    if (stop_requested) break;
-    const auto frame_start = Clock::now();
-    StepStats frame_steps;
-    Instability problem;
-    for (int step = 0; step < schedule.steps_per_frame && !problem.found; ++step) {
-      world_.step();
-      if (log_newton_) add_newton_rows(frame, step);
-      frame_steps += world_.last_step_stats();
-      problem = check_state(world_, options_.limits);
-      progress.update(frame - 1, step + 1, schedule.steps_per_frame);
-    }
-    if (!problem.found) problem = check_strain(world_, options_.limits);
-    if (!problem.found && frame_steps.unmet_tolerance_steps > 0) {
-      // Adaptive stepping reached its smallest step with the error estimate still too large.
-      progress.finish(frames_written_ - 1);
+// The steps of one frame, each checked for divergence; the first problem stops the frame.
+Instability Run::step_frame(int frame, const FrameSchedule& schedule, ProgressReporter& progress,
+                            StepStats& frame_steps) {
+  Instability problem;
+  for (int step = 0; step < schedule.steps_per_frame && !problem.found; ++step) {
+    world_.step();
+    if (log_newton_) add_newton_rows(frame, step);
+    frame_steps += world_.last_step_stats();
+    problem = check_state(world_, options_.limits);
+    progress.update(frame - 1, step + 1, schedule.steps_per_frame);
+  }
+  if (!problem.found) problem = check_strain(world_, options_.limits);
+  return problem;
+}
+
+// A frame that diverged (`problem`) or whose adaptive steps missed their tolerance: said on
+// stderr, run.json and summary.json say so; returns the exit code.
+int Run::stop_diverged(int frame, const Instability& problem, const StepStats& frame_steps,
+                       ProgressReporter& progress) {
+  if (!problem.found) {
+    progress.finish(frames_written_ - 1);
+    // Adaptive stepping reached its smallest step with the error estimate still too large.
       char message[512];
-      std::snprintf(message, sizeof message,
-                    "adaptive stepping could not meet solver.adaptive.tolerance = %.3g m in frame %d (t = %.6g s): %d "
-                    "steps at solver.adaptive.min_step = %.3g s still estimated a larger local error",
-                    scene_.adaptive.tolerance, frame, world_.time(), frame_steps.unmet_tolerance_steps,
-                    scene_.adaptive.h_min);
-      std::fprintf(stderr,
-                   "weft: %s. Frames 0..%d are written. Lower min_step, raise the tolerance, or use "
-                   "implicit_euler.\n",
-                   message, frames_written_ - 1);
-      flush_newton_rows();  // the diverging frame's iterations too: what went wrong
-      write_run_json("diverged");
-      write_summary("diverged", exit_diverged, {{"frame", frame}, {"time", world_.time()}, {"message", message}});
-      return exit_diverged;
-    }
-    if (problem.found) {
-      progress.finish(frames_written_ - 1);
-      std::fprintf(stderr,
-                   "weft: the simulation diverged in frame %d (t = %.6g s): %s. Frames 0..%d are written%s. "
-                   "Try a smaller solver.time_step, more solver.substeps or softer springs.\n",
-                   frame, world_.time(), problem.describe().c_str(), frames_written_ - 1,
-                   fs::exists(out_ / checkpoint_file) ? " and the last checkpoint is kept" : "");
-      flush_newton_rows();  // the diverging frame's iterations too: what went wrong
-      write_run_json("diverged");
-      write_summary(
-          "diverged", exit_diverged,
-          {{"frame", frame},
-           {"time", world_.time()},
-           {"cloth", problem.cloth_name},
-           {"vertex", problem.vertex},
-           {"quantity", problem.quantity},
-           {"element", problem.element >= 0 ? nlohmann::json(problem.element) : nlohmann::json(nullptr)},
-           {"value", std::isfinite(problem.value) ? nlohmann::json(problem.value) : nlohmann::json(nullptr)},
-           {"term", problem.term},
-           {"message", problem.describe()}});
-      return exit_diverged;
-    }
-    record(frame, frame_steps, frame_start);
-    progress.add_unconverged_steps(frame_steps.unconverged_steps);
-    progress.update(frame);
+    std::snprintf(message, sizeof message,
+                  "adaptive stepping could not meet solver.adaptive.tolerance = %.3g m in frame %d (t = %.6g s): %d "
+                  "steps at solver.adaptive.min_step = %.3g s still estimated a larger local error",
+                  scene_.adaptive.tolerance, frame, world_.time(), frame_steps.unmet_tolerance_steps,
+                  scene_.adaptive.h_min);
+    std::fprintf(stderr,
+                 "weft: %s. Frames 0..%d are written. Lower min_step, raise the tolerance, or use "
+                 "implicit_euler.\n",
+                 message, frames_written_ - 1);
+    flush_newton_rows();  // the diverging frame's iterations too: what went wrong
+    write_run_json("diverged");
+    write_summary("diverged", exit_diverged, {{"frame", frame}, {"time", world_.time()}, {"message", message}});
+    return exit_diverged;
   }
   progress.finish(frames_written_ - 1);
+  std::fprintf(stderr,
+               "weft: the simulation diverged in frame %d (t = %.6g s): %s. Frames 0..%d are written%s. "
+               "Try a smaller solver.time_step, more solver.substeps or softer springs.\n",
+               frame, world_.time(), problem.describe().c_str(), frames_written_ - 1,
+               fs::exists(out_ / checkpoint_file) ? " and the last checkpoint is kept" : "");
+  flush_newton_rows();  // the diverging frame's iterations too: what went wrong
+  write_run_json("diverged");
+  write_summary(
+      "diverged", exit_diverged,
+      {{"frame", frame},
+       {"time", world_.time()},
+       {"cloth", problem.cloth_name},
+       {"vertex", problem.vertex},
+       {"quantity", problem.quantity},
+       {"element", problem.element >= 0 ? nlohmann::json(problem.element) : nlohmann::json(nullptr)},
+       {"value", std::isfinite(problem.value) ? nlohmann::json(problem.value) : nlohmann::json(nullptr)},
+       {"term", problem.term},
+       {"message", problem.describe()}});
+  return exit_diverged;
+}
+
+// After the last frame (or a stop): the run's warnings, run.json and summary.json; returns the
+// exit code.
+int Run::finish_run() {
   // Over the whole run, resumed or not: the figures summary.json gives.
   const nlohmann::json totals = summarise(stats_rows_, "", 0, scene_.frames);
   const int unconverged_steps = totals["unconverged_steps"].get<int>();
@@ -584,6 +593,32 @@ int Run::record_and_step() {
   write_run_json("complete");
   write_summary("complete", exit_done);
   return exit_done;
+}
+
+int Run::record_and_step() {
+  const FrameSchedule schedule = frame_schedule(scene_.fps, scene_.time_step);
+  RecordingWriter recording(out_.string(), format_, scene_.frames, scene_.fps);
+  open_outputs(recording);
+  WorldTangles tangles;
+  install_stop_handlers();
+  ProgressReporter progress(scene_.frames, !options_.quiet);
+  // A resumed run's line counts from the frames already recorded.
+  progress.add_unconverged_steps(summarise(stats_rows_, "", 0, scene_.frames)["unconverged_steps"].get<int>());
+  if (first_frame_ == 0) record_frame(0, StepStats{}, Clock::now(), recording, tangles);
+  for (int frame = std::max(1, first_frame_); frame <= scene_.frames; ++frame) {
+    if (stop_requested) break;
+    const auto frame_start = Clock::now();
+    StepStats frame_steps;
+    const Instability problem = step_frame(frame, schedule, progress, frame_steps);
+    if (problem.found || frame_steps.unmet_tolerance_steps > 0) {
+      return stop_diverged(frame, problem, frame_steps, progress);
+    }
+    record_frame(frame, frame_steps, frame_start, recording, tangles);
+    progress.add_unconverged_steps(frame_steps.unconverged_steps);
+    progress.update(frame);
+  }
+  progress.finish(frames_written_ - 1);
+  return finish_run();
 }
 
 }  // namespace
