@@ -81,10 +81,9 @@ CLI::Validator window_size() {
       "WxH");
 }
 
-int run(int argc, char** argv) {
-  CLI::App app{"Weft: cloth and soft-body simulation"};
+// Everything the command line sets: the program's options and the subcommands'.
+struct CommandLine {
   weft::HeadlessOptions headless_options;
-  headless_options.scene_path = "scenes/default.json";
   bool headless = false;
   std::string screenshot;
   std::string format = "pc2";
@@ -96,19 +95,29 @@ int run(int argc, char** argv) {
   int subdivision = 0;
   bool test_contacts = false;
   std::string window_size_text = "1280x720";
+  weft::SweepOptions sweep_options;
+  weft::PlotOptions plot_options;
+  weft::CheckOptions check_options;
+  CLI::App* sweep = nullptr;
+  CLI::App* plot = nullptr;
+  CLI::App* check = nullptr;
+};
 
-  app.add_option("scene", headless_options.scene_path, "Scene file (JSON)")->capture_default_str();
-  app.add_flag("--headless", headless, "Run without a window and record to --out");
-  app.add_option("--out", headless_options.out_dir, "Output folder of a headless run");
-  app.add_option("--frames", headless_options.frames, "Frames to simulate (overrides the scene's \"frames\")")
+// The options of the program itself (the viewer and --headless).
+void add_run_options(CLI::App& app, CommandLine& line) {
+  app.add_option("scene", line.headless_options.scene_path, "Scene file (JSON)")->capture_default_str();
+  app.add_flag("--headless", line.headless, "Run without a window and record to --out");
+  app.add_option("--out", line.headless_options.out_dir, "Output folder of a headless run");
+  app.add_option("--frames", line.headless_options.frames,
+                 "Frames to simulate (overrides the scene's \"frames\")")
       ->check(whole_number("frames", 0, weft::max_frames, ">= 0 and <= " + std::to_string(weft::max_frames)));
   // One value per --set, so `--set fps=30 scene.json` leaves the scene to the positional argument.
-  app.add_option("--set", headless_options.overrides,
+  app.add_option("--set", line.headless_options.overrides,
                  "Override a scene field: path=value (e.g. solver.time_step=0.001); repeat for more")
       ->allow_extra_args(false);
-  app.add_option("--screenshot", screenshot, "Viewer: simulate --frames frames, save a PNG and exit");
-  app.add_option("--record", record_dir, "Viewer: save every drawn frame as DIR/frame_NNNNN.png");
-  app.add_option("--show", show,
+  app.add_option("--screenshot", line.screenshot, "Viewer: simulate --frames frames, save a PNG and exit");
+  app.add_option("--record", line.record_dir, "Viewer: save every drawn frame as DIR/frame_NNNNN.png");
+  app.add_option("--show", line.show,
                  "Viewer display switches, over the scene's \"view\": boxes, contacts, wireframe, strain, "
                  "pins, grid, "
                  "colliders, cutaway, panels (the ImGui panels in saved pictures too), tangles (intersecting "
@@ -116,78 +125,155 @@ int run(int argc, char** argv) {
                  "(no-contacts) that turns it off")
       ->delimiter(',')
       ->check(CLI::IsMember(weft::display_switch_names));
-  app.add_option("--open-panel", open_panels, "Viewer: start with this panel expanded and in front")
+  app.add_option("--open-panel", line.open_panels, "Viewer: start with this panel expanded and in front")
       ->check(CLI::IsMember({"Simulation", "Solver", "Material", "Display and collisions", "Plots"}));
-  app.add_option("--box-depth", box_depth, "Viewer: bounding-box hierarchy depth shown with --show boxes")
+  app.add_option("--box-depth", line.box_depth,
+                 "Viewer: bounding-box hierarchy depth shown with --show boxes")
       ->check(whole_number("levels", 0, 16, "from 0 to 16"));
-  app.add_option("--subdivide", subdivision, "Viewer: Loop subdivision levels of the displayed cloth")
+  app.add_option("--subdivide", line.subdivision, "Viewer: Loop subdivision levels of the displayed cloth")
       ->check(whole_number("levels", 0, 2, "from 0 to 2"));
-  app.add_option("--size", window_size_text, "Viewer: window (and saved picture) size in pixels, WIDTHxHEIGHT")
+  app.add_option("--size", line.window_size_text,
+                 "Viewer: window (and saved picture) size in pixels, WIDTHxHEIGHT")
       ->check(window_size())
       ->capture_default_str();
-  app.add_flag("--test-contacts", test_contacts, "Viewer: draw synthetic contacts (tests the contact display)");
-  app.add_flag("--quiet", headless_options.quiet, "Headless: no progress output");
-  app.add_flag("--newton-log", headless_options.newton_log,
+  app.add_flag("--test-contacts", line.test_contacts,
+               "Viewer: draw synthetic contacts (tests the contact display)");
+  app.add_flag("--quiet", line.headless_options.quiet, "Headless: no progress output");
+  app.add_flag("--newton-log", line.headless_options.newton_log,
                "Headless: write DIR/newton.csv, one row per Newton iteration of every implicit Euler step");
-  app.add_option("--threads", headless_options.threads,
+  app.add_option("--threads", line.headless_options.threads,
                  "Solver threads (0: all cores; at most " + std::to_string(weft::max_threads) + ")")
       ->check(whole_number("threads", 0, weft::max_threads,
                            "from 0 (all cores) to " + std::to_string(weft::max_threads)))
       ->capture_default_str();
-  app.add_flag("--fixed-threads", headless_options.fixed_threads,
+  app.add_flag("--fixed-threads", line.headless_options.fixed_threads,
                "Headless: always run on --threads threads (by default a step runs on one thread while that "
                "measures faster, e.g. when another process holds a core; results are the same either way)");
-  app.add_option("--format", format,
+  app.add_option("--format", line.format,
                  "Headless recording: pc2 (rest OBJ + point cache per cloth), obj (a file "
                  "per frame) or both")
       ->check(CLI::IsMember({"pc2", "obj", "both"}))
       ->capture_default_str();
-  app.add_option("--checkpoint-every", headless_options.checkpoint_every,
+  app.add_option("--checkpoint-every", line.headless_options.checkpoint_every,
                  "Headless: write DIR/checkpoint.bin every N frames (0: never)")
       ->check(whole_number("frames", 0, weft::max_frames,
                            "from 0 (never) to " + std::to_string(weft::max_frames)));
-  app.add_option("--resume", headless_options.resume_dir,
+  app.add_option("--resume", line.headless_options.resume_dir,
                  "Headless: continue the run recorded in DIR from its checkpoint");
-  app.add_option("--max-speed", headless_options.limits.max_speed,
+  app.add_option("--max-speed", line.headless_options.limits.max_speed,
                  "Headless: stop (exit 3) when a vertex moves faster, m/s (0: no bound)")
       ->check(non_negative_number("a speed in m/s"))
       ->capture_default_str();
-  app.add_option("--max-strain", headless_options.limits.max_strain,
+  app.add_option("--max-strain", line.headless_options.limits.max_strain,
                  "Headless: stop (exit 3) when a spring or membrane triangle stretches more, as "
                  "stretch - 1 (0: no bound)")
       ->check(non_negative_number("a strain"))
       ->capture_default_str();
-  app.add_flag("--version", version, "Print the version and exit");
+  app.add_flag("--version", line.version, "Print the version and exit");
+}
 
-  weft::SweepOptions sweep_options;
-  CLI::App* sweep =
+// The subcommands: sweep, plot and check.
+void add_subcommands(CLI::App& app, CommandLine& line) {
+  line.sweep =
       app.add_subcommand("sweep", "Run a grid of scene overrides locally, or write a SLURM array job");
-  sweep->add_option("sweep_file", sweep_options.sweep_file, "Sweep file (JSON, docs/sweeps.md)")->required();
-  sweep->add_flag("--slurm", sweep_options.slurm, "Write an sbatch array script instead of running");
-  sweep->add_option("--out", sweep_options.out_dir, "Sweep folder (default: the sweep file's \"out\")");
-  sweep->add_option("--jobs,-j", sweep_options.jobs, "Local runs at once (default: cores / threads)")
+  line.sweep->add_option("sweep_file", line.sweep_options.sweep_file, "Sweep file (JSON, docs/sweeps.md)")
+      ->required();
+  line.sweep->add_flag("--slurm", line.sweep_options.slurm,
+                       "Write an sbatch array script instead of running");
+  line.sweep->add_option("--out", line.sweep_options.out_dir,
+                         "Sweep folder (default: the sweep file's \"out\")");
+  line.sweep
+      ->add_option("--jobs,-j", line.sweep_options.jobs, "Local runs at once (default: cores / threads)")
       ->check(whole_number("runs at once", 1, weft::max_sweep_jobs,
                            "from 1 to " + std::to_string(weft::max_sweep_jobs)));
-  CLI::Option* dry_run = sweep->add_flag("--dry-run", sweep_options.dry_run, "List the case names and exit");
-  sweep
-      ->add_flag("--status", sweep_options.status,
+  CLI::Option* dry_run =
+      line.sweep->add_flag("--dry-run", line.sweep_options.dry_run, "List the case names and exit");
+  line.sweep
+      ->add_flag("--status", line.sweep_options.status,
                  "Say per case: complete, running, interrupted, failed, changed or not started; exit 0 "
                  "when all are complete, 1 when some are not yet, 5 when some failed")
       ->excludes(dry_run)
       ->excludes("--slurm");
 
-  weft::PlotOptions plot_options;
-  CLI::App* plot = app.add_subcommand("plot", "Plot a run's (or a sweep's) stats.csv to PNG with gnuplot");
-  plot->add_option("dir", plot_options.dir, "Run or sweep folder")->required();
+  line.plot = app.add_subcommand("plot", "Plot a run's (or a sweep's) stats.csv to PNG with gnuplot");
+  line.plot->add_option("dir", line.plot_options.dir, "Run or sweep folder")->required();
 
-  weft::CheckOptions check_options;
-  CLI::App* check = app.add_subcommand(
+  line.check = app.add_subcommand(
       "check",
       "Check every frame of a headless recording for intersecting triangles and vertices inside "
       "colliders; exit 0 all clean, 1 some frame tangled, 2 bad input");
-  check->add_option("dir", check_options.dir, "Recording folder (weft --headless SCENE --out DIR)")
+  line.check->add_option("dir", line.check_options.dir, "Recording folder (weft --headless SCENE --out DIR)")
       ->required();
+}
 
+// weft --headless: the option combinations it refuses, then the run.
+int run_headless_command(const CLI::App& app, CommandLine& line) {
+  const bool resuming = !line.headless_options.resume_dir.empty();
+  if (line.headless_options.out_dir.empty() && !resuming) {
+    std::fprintf(stderr, "weft: --headless needs --out DIR, the folder to record into\n");
+    return 2;
+  }
+  if (resuming && !line.headless_options.out_dir.empty() &&
+      line.headless_options.out_dir != line.headless_options.resume_dir) {
+    std::fprintf(
+        stderr,
+        "weft: --resume DIR continues the recording in DIR; leave out --out or give the same folder\n");
+    return 2;
+  }
+  if (!line.screenshot.empty()) {
+    std::fprintf(stderr, "weft: --screenshot needs the viewer; it cannot be combined with --headless\n");
+    return 2;
+  }
+  line.headless_options.scene_given = app.count("scene") > 0;
+  weft::recording_format_from_string(line.format, line.headless_options.format);
+  line.headless_options.format_given = app.count("--format") > 0;
+  return weft::run_headless(line.headless_options);
+}
+
+// The viewer (or, in a build without it, a bad scene reported and the headless command named).
+int run_viewer_command(const CLI::App& app, CommandLine& line) {
+  for (const char* option : {"--resume", "--checkpoint-every", "--format", "--newton-log"}) {
+    if (app.count(option) > 0) {
+      std::fprintf(stderr, "weft: %s needs --headless\n", option);
+      return 2;
+    }
+  }
+#ifdef WEFT_HAS_VIEWER
+  weft::ViewerOptions options;
+  options.scene_path = line.headless_options.scene_path;
+  options.overrides = line.headless_options.overrides;
+  options.screenshot_path = line.screenshot;
+  options.frames = line.headless_options.frames < 0 ? 0 : line.headless_options.frames;
+  options.record_dir = line.record_dir;
+  options.show = line.show;
+  options.open_panels = line.open_panels;
+  options.box_depth = line.box_depth;
+  options.subdivision = line.subdivision;
+  options.test_contacts = line.test_contacts;
+  parse_window_size(line.window_size_text, options.width, options.height);
+  return weft::run_viewer(options);
+#else
+  // As in a viewer build, a bad scene is reported (exit 2) before anything else.
+  try {
+    weft::load_scene_file(line.headless_options.scene_path, line.headless_options.overrides);
+  } catch (const weft::SceneError& error) {
+    std::fprintf(stderr, "weft: %s\n", error.what());
+    return 2;
+  }
+  std::fprintf(stderr,
+               "weft: this build has no viewer (built with WEFT_VIEWER=OFF); run headless instead:\n"
+               "  weft --headless %s --out DIR\n",
+               line.headless_options.scene_path.c_str());
+  return 1;
+#endif
+}
+
+int run(int argc, char** argv) {
+  CLI::App app{"Weft: cloth and soft-body simulation"};
+  CommandLine line;
+  line.headless_options.scene_path = "scenes/default.json";
+  add_run_options(app, line);
+  add_subcommands(app, line);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& help) {
@@ -197,69 +283,15 @@ int run(int argc, char** argv) {
     return 2;
   }
 
-  if (version) {
+  if (line.version) {
     std::printf("weft %s (%s)\n", weft::version_string, weft::git_commit);
     return 0;
   }
-  if (sweep->parsed()) return weft::run_sweep(sweep_options);
-  if (plot->parsed()) return weft::run_plot(plot_options);
-  if (check->parsed()) return weft::run_check(check_options);
-  if (headless) {
-    const bool resuming = !headless_options.resume_dir.empty();
-    if (headless_options.out_dir.empty() && !resuming) {
-      std::fprintf(stderr, "weft: --headless needs --out DIR, the folder to record into\n");
-      return 2;
-    }
-    if (resuming && !headless_options.out_dir.empty() &&
-        headless_options.out_dir != headless_options.resume_dir) {
-      std::fprintf(
-          stderr,
-          "weft: --resume DIR continues the recording in DIR; leave out --out or give the same folder\n");
-      return 2;
-    }
-    if (!screenshot.empty()) {
-      std::fprintf(stderr, "weft: --screenshot needs the viewer; it cannot be combined with --headless\n");
-      return 2;
-    }
-    headless_options.scene_given = app.count("scene") > 0;
-    weft::recording_format_from_string(format, headless_options.format);
-    headless_options.format_given = app.count("--format") > 0;
-    return weft::run_headless(headless_options);
-  }
-  for (const char* option : {"--resume", "--checkpoint-every", "--format", "--newton-log"}) {
-    if (app.count(option) > 0) {
-      std::fprintf(stderr, "weft: %s needs --headless\n", option);
-      return 2;
-    }
-  }
-#ifdef WEFT_HAS_VIEWER
-  weft::ViewerOptions options;
-  options.scene_path = headless_options.scene_path;
-  options.overrides = headless_options.overrides;
-  options.screenshot_path = screenshot;
-  options.frames = headless_options.frames < 0 ? 0 : headless_options.frames;
-  options.record_dir = record_dir;
-  options.show = show;
-  options.open_panels = open_panels;
-  options.box_depth = box_depth;
-  options.subdivision = subdivision;
-  options.test_contacts = test_contacts;
-  parse_window_size(window_size_text, options.width, options.height);
-  return weft::run_viewer(options);
-#else
-  // As in a viewer build, a bad scene is reported (exit 2) before anything else.
-  try {
-    weft::load_scene_file(headless_options.scene_path, headless_options.overrides);
-  } catch (const weft::SceneError& error) {
-    std::fprintf(stderr, "weft: %s\n", error.what());
-    return 2;
-  }
-  std::fprintf(stderr,
-               "weft: this build has no viewer (built with WEFT_VIEWER=OFF); run headless instead:\n"
-               "  weft --headless %s --out DIR\n",
-               headless_options.scene_path.c_str());
-  return 1;
-#endif
+  if (line.sweep->parsed()) return weft::run_sweep(line.sweep_options);
+  if (line.plot->parsed()) return weft::run_plot(line.plot_options);
+  if (line.check->parsed()) return weft::run_check(line.check_options);
+  if (line.headless) return run_headless_command(app, line);
+  return run_viewer_command(app, line);
 }
 
 void report_out_of_memory() {
