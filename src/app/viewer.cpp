@@ -395,174 +395,239 @@ class TangleMarks {
 };
 
 // Runs the window until it is closed, or draws one screenshot. Returns the exit code.
-int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptions& options,
-               const std::string& shader_dir, bool starts_tangled) {
-  ImGuiLayer imgui(window);
-  Renderer renderer(shader_dir);
-  ViewerState state;
-  state.view = view_options_from(options, session.scene().view);
-  if (starts_tangled && !tangles_switched_off(options, session.scene().view)) state.view.tangles = true;
-  TangleMarks tangle_marks;
-  state.panels_in_pictures = panels_in_pictures(options, session.scene().view);
-  state.scene_files = list_scene_files(std::filesystem::path(session.scene_path()).parent_path().string());
-  if (state.scene_files.empty()) state.scene_files.push_back(session.scene_path());
-  WorldMeshes meshes = show_world(renderer, session.world(), state.view);
-  int shown_generation = session.generation();
-  DebugOverlay overlay;
-  MouseControl mouse;
-  session.before_step = [&mouse](World& world) { mouse.apply(world); };
-
-  Viewport viewport;
-  glfwGetFramebufferSize(window, &viewport.framebuffer_width, &viewport.framebuffer_height);
-  glfwGetWindowSize(window, &viewport.window_width, &viewport.window_height);
-  OrbitCamera camera;
-  place_camera(camera, session.scene().view, session.world(), viewport.aspect());
-  std::string shown_scene = session.scene_path();
-
-  // Screenshot: a fixed number of frames, independent of wall time, then one picture; progress
-  // lines once it takes longer than a moment.
-  const bool screenshot = !options.screenshot_path.empty();
-  if (screenshot) {
-    ProgressReporter progress(options.frames, true, {"screenshot " + options.screenshot_path, 2.0, 1.0});
-    session.before_step = [&](World& world) {
-      mouse.apply(world);
-      progress.update(session.frame(), session.step_in_frame(), session.schedule().steps_per_frame);
-    };
-    for (int frame = 0; frame < options.frames; ++frame) {
-      session.advance_frame();
-      state.history.record(session.world());
-      progress.update(session.frame());
-    }
-    progress.finish(session.frame());
-    session.before_step = [&mouse](World& world) { mouse.apply(world); };
+// The viewer's window loop: each drawn frame polls input, draws the panels, advances the
+// simulation on its wall-clock budget, follows the world into the renderer, draws, and saves the
+// pictures asked for. One phase per member function; the locals of a frame live here.
+class ViewerLoop {
+ public:
+  ViewerLoop(GLFWwindow* window, SimulationSession& session, const ViewerOptions& options,
+             const std::string& shader_dir, bool starts_tangled)
+      : window_(window),
+        session_(session),
+        options_(options),
+        imgui_(window),
+        renderer_(shader_dir),
+        screenshot_(!options.screenshot_path.empty()),
+        record_dir_(options.record_dir.empty() ? "weft_record" : options.record_dir),
+        record_progress_(0, true, {"recording into " + record_dir_ + " (pictures)", 2.0, 5.0}) {
+    state_.view = view_options_from(options, session.scene().view);
+    if (starts_tangled && !tangles_switched_off(options, session.scene().view)) state_.view.tangles = true;
+    state_.panels_in_pictures = panels_in_pictures(options, session.scene().view);
+    state_.scene_files = list_scene_files(std::filesystem::path(session.scene_path()).parent_path().string());
+    if (state_.scene_files.empty()) state_.scene_files.push_back(session.scene_path());
+    meshes_ = show_world(renderer_, session.world(), state_.view);
+    shown_generation_ = session.generation();
+    session.before_step = [this](World& world) { mouse_.apply(world); };
+    read_viewport();
+    place_camera(camera_, session.scene().view, session.world(), viewport_.aspect());
+    shown_scene_ = session.scene_path();
+    // ImGui lays its windows out over a few frames: a picture with panels is taken on the third.
+    screenshot_frames_left_ = state_.panels_in_pictures ? 3 : 1;
+    state_.record_frames = !options.record_dir.empty();
   }
-  // ImGui lays its windows out over a few frames: a picture with panels is taken on the third.
-  int screenshot_frames_left = state.panels_in_pictures ? 3 : 1;
-  bool first_frame = true;
-  state.record_frames = !options.record_dir.empty();
-  const std::string record_dir = options.record_dir.empty() ? "weft_record" : options.record_dir;
-  int recorded = 0;
-  // Pictures saved so far, every few seconds while recording.
-  ProgressReporter record_progress(0, true, {"recording into " + record_dir + " (pictures)", 2.0, 5.0});
+  ~ViewerLoop() { session_.before_step = nullptr; }
+  ViewerLoop(const ViewerLoop&) = delete;
+  ViewerLoop& operator=(const ViewerLoop&) = delete;
 
-  using Clock = std::chrono::steady_clock;
-  Clock::time_point last_time = Clock::now();
-  while (screenshot || !glfwWindowShouldClose(window)) {
-    glfwPollEvents();
-    glfwGetFramebufferSize(window, &viewport.framebuffer_width, &viewport.framebuffer_height);
-    glfwGetWindowSize(window, &viewport.window_width, &viewport.window_height);
-    const Clock::time_point now = Clock::now();
-    const double wall_seconds = std::min(std::chrono::duration<double>(now - last_time).count(), 0.25);
-    last_time = now;
+  // Returns the program's exit code: 0, 4 (a picture could not be saved) or 5 (an OpenGL error
+  // in a screenshot run).
+  int run() {
+    if (screenshot_) simulate_screenshot_frames();
+    using Clock = std::chrono::steady_clock;
+    Clock::time_point last_time = Clock::now();
+    while (screenshot_ || !glfwWindowShouldClose(window_)) {
+      glfwPollEvents();
+      read_viewport();
+      const Clock::time_point now = Clock::now();
+      const double wall_seconds = std::min(std::chrono::duration<double>(now - last_time).count(), 0.25);
+      last_time = now;
 
-    imgui.begin_frame();
-    if (!screenshot) {
-      mouse.update(camera, session, state, viewport, meshes.cloth_bvhs);
-      handle_keys(session, state, camera, viewport);
+      imgui_.begin_frame();
+      if (!screenshot_) {
+        mouse_.update(camera_, session_, state_, viewport_, meshes_.cloth_bvhs);
+        handle_keys(session_, state_, camera_, viewport_);
+      }
+      draw_panels();
+      advance_simulation(wall_seconds);
+      follow_world();
+      build_frame_overlay();
+      renderer_.draw(camera_, viewport_.framebuffer_width, viewport_.framebuffer_height, overlay_,
+                     viewport_.pixel_scale());
+      const std::string gl_errors = take_gl_errors();
+      if (!gl_errors.empty()) {
+        std::fprintf(stderr, "weft: OpenGL error after drawing: %s\n", gl_errors.c_str());
+        if (screenshot_) return 5;
+      }
+      // Pictures show the 3D view only unless asked: the panels are drawn after they are read.
+      if (state_.panels_in_pictures) imgui_.end_frame();
+      const bool take_screenshot = screenshot_ && --screenshot_frames_left_ == 0;
+      if (!save_pictures(take_screenshot)) return 4;
+      if (!state_.panels_in_pictures) imgui_.end_frame();
+      glfwSwapBuffers(window_);
+      if (take_screenshot) break;
     }
-    draw_simulation_panel(session, state);
-    draw_solver_panel(session);
-    draw_material_panel(session);
-    draw_debug_panel(session, state);
-    draw_plots_panel(state);
-    draw_status_line(session, state);
-    draw_hover_tooltip(session, state, mouse.drag().active());
-    if (first_frame) {
+    if (recorded_ > 0) record_progress_.finish(recorded_);
+    return 0;
+  }
+
+ private:
+  void read_viewport() {
+    glfwGetFramebufferSize(window_, &viewport_.framebuffer_width, &viewport_.framebuffer_height);
+    glfwGetWindowSize(window_, &viewport_.window_width, &viewport_.window_height);
+  }
+
+  // Screenshot: a fixed number of frames, independent of wall time, before the one picture;
+  // progress lines once it takes longer than a moment.
+  void simulate_screenshot_frames() {
+    ProgressReporter progress(options_.frames, true, {"screenshot " + options_.screenshot_path, 2.0, 1.0});
+    session_.before_step = [this, &progress](World& world) {
+      mouse_.apply(world);
+      progress.update(session_.frame(), session_.step_in_frame(), session_.schedule().steps_per_frame);
+    };
+    for (int frame = 0; frame < options_.frames; ++frame) {
+      session_.advance_frame();
+      state_.history.record(session_.world());
+      progress.update(session_.frame());
+    }
+    progress.finish(session_.frame());
+    session_.before_step = [this](World& world) { mouse_.apply(world); };
+  }
+
+  void draw_panels() {
+    draw_simulation_panel(session_, state_);
+    draw_solver_panel(session_);
+    draw_material_panel(session_);
+    draw_debug_panel(session_, state_);
+    draw_plots_panel(state_);
+    draw_status_line(session_, state_);
+    draw_hover_tooltip(session_, state_, mouse_.drag().active());
+    if (first_frame_) {
       // Panels asked for on the command line: expanded and in front from the next frame on.
-      for (const std::string& name : options.open_panels) {
+      for (const std::string& name : options_.open_panels) {
         ImGui::SetWindowCollapsed(name.c_str(), false);
         ImGui::SetWindowFocus(name.c_str());
       }
-      first_frame = false;
+      first_frame_ = false;
     }
+  }
 
+  void advance_simulation(double wall_seconds) {
     // Simulation on a wall-clock budget, so a heavy scene slows down instead of freezing the UI.
-    if (session.playing && !screenshot) {
-      const double time_before = session.world().time();
-      if (session.play(wall_seconds, state.speed, state.step_budget_ms) > 0) state.history.record(session.world());
-      const double factor = wall_seconds > 0.0 ? (session.world().time() - time_before) / wall_seconds : 0.0;
-      state.real_time_factor += 0.1 * (factor - state.real_time_factor);
+    if (session_.playing && !screenshot_) {
+      const double time_before = session_.world().time();
+      if (session_.play(wall_seconds, state_.speed, state_.step_budget_ms) > 0)
+        state_.history.record(session_.world());
+      const double factor = wall_seconds > 0.0 ? (session_.world().time() - time_before) / wall_seconds : 0.0;
+      state_.real_time_factor += 0.1 * (factor - state_.real_time_factor);
     } else {
-      state.real_time_factor = 0.0;
+      state_.real_time_factor = 0.0;
     }
-    if (wall_seconds > 0.0) state.frames_per_second += 0.1 * (1.0 / wall_seconds - state.frames_per_second);
+    if (wall_seconds > 0.0) state_.frames_per_second += 0.1 * (1.0 / wall_seconds - state_.frames_per_second);
+  }
 
-    if (state.reload_shaders) {
-      state.reload_shaders = false;
-      state.shader_message = renderer.reload_shaders();
+  // The renderer follows the world: shaders reloaded when asked, the meshes registered again after
+  // a reload, a reset or a new subdivision level, else new positions pushed.
+  void follow_world() {
+    if (state_.reload_shaders) {
+      state_.reload_shaders = false;
+      state_.shader_message = renderer_.reload_shaders();
     }
     // Views follow the world: re-register after a reload or a new subdivision level, else push positions.
-    if (session.generation() != shown_generation || state.view.subdivision_levels != meshes.subdivision_levels) {
-      if (session.generation() != shown_generation) mouse.release(session.world());
-      if (session.scene_path() != shown_scene) {
+    if (session_.generation() != shown_generation_ ||
+        state_.view.subdivision_levels != meshes_.subdivision_levels) {
+      if (session_.generation() != shown_generation_) mouse_.release(session_.world());
+      if (session_.scene_path() != shown_scene_) {
         // Another scene opens as its file says; a reset of the same one keeps the camera and switches.
-        shown_scene = session.scene_path();
-        state.view = view_options_from(options, session.scene().view);
-        place_camera(camera, session.scene().view, session.world(), viewport.aspect());
+        shown_scene_ = session_.scene_path();
+        state_.view = view_options_from(options_, session_.scene().view);
+        place_camera(camera_, session_.scene().view, session_.world(), viewport_.aspect());
       }
-      if (session.generation() != shown_generation && say_start_tangles(session) &&
-          !tangles_switched_off(options, session.scene().view)) {
-        state.view.tangles = true;
+      if (session_.generation() != shown_generation_ && say_start_tangles(session_) &&
+          !tangles_switched_off(options_, session_.scene().view)) {
+        state_.view.tangles = true;
       }
-      meshes = show_world(renderer, session.world(), state.view);
-      shown_generation = session.generation();
+      meshes_ = show_world(renderer_, session_.world(), state_.view);
+      shown_generation_ = session_.generation();
     } else {
-      update_world(renderer, meshes, session.world(), state.view);
+      update_world(renderer_, meshes_, session_.world(), state_.view);
     }
-    update_bvhs(meshes, session.world());  // drawn with --show boxes, and used for picking
-    if (options.test_contacts) {
-      build_overlay(overlay, session.world(), meshes, state.view, synthetic_contacts(session.world()));
+  }
+
+  // What the 3D view draws over the cloth: boxes, contacts, tangles, the dragged vertex.
+  void build_frame_overlay() {
+    update_bvhs(meshes_, session_.world());  // drawn with --show boxes, and used for picking
+    if (options_.test_contacts) {
+      build_overlay(overlay_, session_.world(), meshes_, state_.view, synthetic_contacts(session_.world()));
     } else {
-      build_overlay(overlay, session.world(), meshes, state.view, session.world().contacts());
+      build_overlay(overlay_, session_.world(), meshes_, state_.view, session_.world().contacts());
     }
-    if (state.view.tangles)
-      tangle_marks.add_to(overlay, session.world(), session.generation(), mouse.drag().active());
-    if (mouse.drag().active()) {
-      const Cloth& cloth = session.world().cloths()[static_cast<size_t>(mouse.drag().cloth())];
-      overlay.add_line(cloth.state.x.col(mouse.drag().vertex()), mouse.drag().target(), Color(1.0f, 1.0f, 1.0f));
-      overlay.points.push_back({mouse.drag().target(), Color(1.0f, 1.0f, 1.0f), 6.0f});
+    if (state_.view.tangles)
+      tangle_marks_.add_to(overlay_, session_.world(), session_.generation(), mouse_.drag().active());
+    if (mouse_.drag().active()) {
+      const Cloth& cloth = session_.world().cloths()[static_cast<size_t>(mouse_.drag().cloth())];
+      overlay_.add_line(cloth.state.x.col(mouse_.drag().vertex()), mouse_.drag().target(),
+                        Color(1.0f, 1.0f, 1.0f));
+      overlay_.points.push_back({mouse_.drag().target(), Color(1.0f, 1.0f, 1.0f), 6.0f});
     }
-    renderer.draw(camera, viewport.framebuffer_width, viewport.framebuffer_height, overlay, viewport.pixel_scale());
+  }
 
-    const std::string gl_errors = take_gl_errors();
-    if (!gl_errors.empty()) {
-      std::fprintf(stderr, "weft: OpenGL error after drawing: %s\n", gl_errors.c_str());
-      if (screenshot) return 5;
-    }
-
-    // Pictures show the 3D view only unless asked: the panels are drawn after they are read.
-    if (state.panels_in_pictures) imgui.end_frame();
-    const bool take_screenshot = screenshot && --screenshot_frames_left == 0;
+  // The screenshot_ of a screenshot_ run, a picture asked for in the panel, a recorded frame.
+  // Returns false when a screenshot_ run could not save its picture.
+  bool save_pictures(bool take_screenshot) {
     try {
-      if (take_screenshot) save_back_buffer_png(options.screenshot_path, viewport.framebuffer_width, viewport.framebuffer_height);
-      if (state.save_screenshot) {
-        state.save_screenshot = false;
-        state.last_saved = next_free_png("weft_screenshot");
-        save_back_buffer_png(state.last_saved, viewport.framebuffer_width, viewport.framebuffer_height);
+      if (take_screenshot)
+        save_back_buffer_png(options_.screenshot_path, viewport_.framebuffer_width,
+                             viewport_.framebuffer_height);
+      if (state_.save_screenshot) {
+        state_.save_screenshot = false;
+        state_.last_saved = next_free_png("weft_screenshot");
+        save_back_buffer_png(state_.last_saved, viewport_.framebuffer_width, viewport_.framebuffer_height);
       }
-      if (state.record_frames && !screenshot) {
-        std::filesystem::create_directories(record_dir);
+      if (state_.record_frames && !screenshot_) {
+        std::filesystem::create_directories(record_dir_);
         char name[32];
-        std::snprintf(name, sizeof(name), "/frame_%05d.png", recorded++);
-        save_back_buffer_png(record_dir + name, viewport.framebuffer_width, viewport.framebuffer_height);
-        record_progress.update(recorded);
+        std::snprintf(name, sizeof(name), "/frame_%05d.png", recorded_++);
+        save_back_buffer_png(record_dir_ + name, viewport_.framebuffer_width, viewport_.framebuffer_height);
+        record_progress_.update(recorded_);
       }
     } catch (const IoError& error) {
       std::fprintf(stderr, "weft: %s\n", error.what());
-      if (screenshot) return 4;
-      state.last_saved = error.what();
-      state.record_frames = false;
+      if (screenshot_) return false;
+      state_.last_saved = error.what();
+      state_.record_frames = false;
     } catch (const std::filesystem::filesystem_error& error) {
-      state.last_saved = error.what();
-      state.record_frames = false;
+      state_.last_saved = error.what();
+      state_.record_frames = false;
     }
-    if (!state.panels_in_pictures) imgui.end_frame();
-    glfwSwapBuffers(window);
-    if (take_screenshot) break;
+    return true;
   }
-  if (recorded > 0) record_progress.finish(recorded);
-  session.before_step = nullptr;
-  return 0;
+
+  GLFWwindow* window_;
+  SimulationSession& session_;
+  const ViewerOptions& options_;
+  ImGuiLayer imgui_;
+  Renderer renderer_;
+  ViewerState state_;
+  TangleMarks tangle_marks_;
+  WorldMeshes meshes_;
+  int shown_generation_ = 0;
+  std::string shown_scene_;
+  DebugOverlay overlay_;
+  MouseControl mouse_;
+  Viewport viewport_;
+  OrbitCamera camera_;
+  const bool screenshot_;
+  int screenshot_frames_left_ = 1;
+  bool first_frame_ = true;
+  const std::string record_dir_;
+  int recorded_ = 0;
+  ProgressReporter record_progress_;  // pictures saved so far, every few seconds while recording
+};
+
+int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptions& options,
+               const std::string& shader_dir, bool starts_tangled) {
+  ViewerLoop loop(window, session, options, shader_dir, starts_tangled);
+  return loop.run();
 }
 
 }  // namespace
