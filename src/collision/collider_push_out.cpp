@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <vector>
 
 #include "collision/edge_triangle_crossing.hpp"
 
@@ -51,32 +52,77 @@ double exit_distance(const Vec3& p, const Vec3& direction, double reach, const P
 
 ColliderPushOut push_out_of_collider(const Collider& collider, double t, const Positions& surface,
                                      const Triangles& surface_triangles, Eigen::Ref<const Positions> x,
-                                     const Eigen::VectorXd& inverse_mass, double margin,
-                                     Eigen::Ref<Positions> displacement) {
+                                     const Triangles& cloth_triangles, const Eigen::VectorXd& inverse_mass,
+                                     double margin, Eigen::Ref<Positions> displacement) {
   ColliderPushOut result;
-  if (!collider_has_inside(collider)) return result;
+  if (!collider_has_inside(collider) || surface.cols() == 0) return result;
   const Mat3 rotation = collider.motion.rotation(t);
   const Vec3 translation = collider.motion.translation(t);
   const double gap = facet_gap(collider);
-  for (Eigen::Index v = 0; v < x.cols(); ++v) {
+  const int n = static_cast<int>(x.cols());
+
+  // Which vertices are inside, with the solid's outward normal at each.
+  std::vector<char> inside(static_cast<size_t>(n), 0);
+  std::vector<Vec3> normal(static_cast<size_t>(n), Vec3::Zero());
+  for (int v = 0; v < n; ++v) {
     const Vec3 p = x.col(v);
     Vec3 rest_normal;
     const double distance = signed_distance(collider, rotation.transpose() * (p - translation), rest_normal);
     if (!(distance < gap)) continue;
-    const Vec3 normal = rotation * rest_normal;
+    normal[v] = rotation * rest_normal;
     // Inside the triangles: the ray out along the normal crosses them (the solid is convex).
     const double reach = std::max(0.0, -distance) + gap + margin;
-    double push = exit_distance(p, normal, reach, surface, surface_triangles);
-    if (push < 0.0) {
-      if (distance >= 0.0) continue;  // outside both
-      push = -distance;               // inside the solid, on a face the triangles follow exactly
+    inside[v] = distance < 0.0 || exit_distance(p, normal[v], reach, surface, surface_triangles) >= 0.0;
+  }
+
+  // Regions of inside vertices joined by cloth edges; each leaves along one direction, the mean
+  // normal of its vertices next to the outside (where it entered), so that a region deep in a box
+  // is not torn between faces. A region with no such vertex leaves along each vertex's normal.
+  std::vector<int> parent(static_cast<size_t>(n));
+  for (int v = 0; v < n; ++v) parent[v] = v;
+  const auto root = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  std::vector<char> on_edge(static_cast<size_t>(n), 0);  // inside, with an outside neighbour
+  for (Eigen::Index f = 0; f < cloth_triangles.cols(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = cloth_triangles(k, f);
+      const int b = cloth_triangles((k + 1) % 3, f);
+      if (inside[a] && inside[b]) {
+        const int ra = root(a);
+        const int rb = root(b);
+        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+      } else if (inside[a] != inside[b]) {
+        on_edge[inside[a] ? a : b] = 1;
+      }
     }
+  }
+  std::vector<Vec3> region_direction(static_cast<size_t>(n), Vec3::Zero());
+  for (int v = 0; v < n; ++v) {
+    if (on_edge[v]) region_direction[root(v)] += normal[v];
+  }
+  const Eigen::Vector3d low = surface.rowwise().minCoeff();
+  const Eigen::Vector3d high = surface.rowwise().maxCoeff();
+  const double across = (high - low).norm() + gap + margin;  // no exit is farther
+
+  for (int v = 0; v < n; ++v) {
+    if (!inside[v]) continue;
     if (inverse_mass(v) == 0.0) {
-      if (result.pinned_inside == 0) result.first_pinned = static_cast<int>(v);
+      if (result.pinned_inside == 0) result.first_pinned = v;
       ++result.pinned_inside;
       continue;
     }
-    displacement.col(v) += (push + margin) * normal;
+    const Vec3 p = x.col(v);
+    const Vec3& summed = region_direction[root(v)];
+    Vec3 direction = summed.norm() > 1e-12 ? Vec3(summed.normalized()) : normal[v];
+    double push = exit_distance(p, direction, across, surface, surface_triangles);
+    if (push < 0.0) {  // on a face the triangles follow exactly: out along the vertex's own normal
+      direction = normal[v];
+      Vec3 rest_normal;
+      push = std::max(0.0, -signed_distance(collider, rotation.transpose() * (p - translation), rest_normal));
+    }
+    displacement.col(v) += (push + margin) * direction;
     result.deepest = std::max(result.deepest, push + margin);
     ++result.moved;
   }

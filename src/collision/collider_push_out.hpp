@@ -20,13 +20,16 @@ struct ColliderPushOut {
 // do not.
 bool collider_has_inside(const Collider& collider);
 
-// For the vertices x (3 x n) of one cloth against one collider at time t whose surface triangles
-// are posed at `surface` (3 x n_surface_vertices): the displacement (3 x n, added to) that takes
-// each free vertex inside to `margin` outside the collider's triangles along the solid's outward
-// normal.
+// For the vertices x (3 x n) of one cloth (triangles `cloth_triangles`) against one collider at
+// time t whose surface triangles are posed at `surface` (3 x n_surface_vertices): the displacement
+// (3 x n, added to) that takes each free vertex inside to `margin` outside the collider's
+// triangles. The inside vertices joined by cloth edges move along one direction, the mean outward
+// normal of the solid at those of them next to the outside (where the cloth enters), so a cloth
+// deep in a box comes out through the face it entered by, in one piece; a region with no vertex
+// outside beside it moves along each vertex's own normal.
 ColliderPushOut push_out_of_collider(const Collider& collider, double t, const Positions& surface,
                                      const Triangles& surface_triangles, Eigen::Ref<const Positions> x,
-                                     const Eigen::VectorXd& inverse_mass, double margin,
-                                     Eigen::Ref<Positions> displacement);
+                                     const Triangles& cloth_triangles, const Eigen::VectorXd& inverse_mass,
+                                     double margin, Eigen::Ref<Positions> displacement);
 
 }  // namespace weft

@@ -214,8 +214,9 @@ void World::push_out_of_colliders(Positions& displacement, int& moved) {
       }
       if (!held_[c][k]) {
         moved += push_out_of_collider(collider, time_, untangle_surface_, collider_surfaces_[k].triangles,
-                                      untangle_x_.middleCols(offset, n), cloth.model.inverse_mass,
-                                      cloth.model.thickness, displacement.middleCols(offset, n))
+                                      untangle_x_.middleCols(offset, n), cloth.model.triangles,
+                                      cloth.model.inverse_mass, cloth.model.thickness,
+                                      displacement.middleCols(offset, n))
                      .moved;
       }
       offset += n;

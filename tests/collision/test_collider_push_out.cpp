@@ -6,6 +6,7 @@
 
 #include "collision/collider_geometry.hpp"
 #include "collision/edge_triangle_crossing.hpp"
+#include "core/mesh_generators.hpp"
 
 namespace weft {
 namespace {
@@ -37,8 +38,9 @@ TEST(ColliderPushOut, VerticesInsideASphereEndOutsideItsFacets) {
   ASSERT_TRUE(inside_mesh(x.col(2), surface)) << "vertex 2 should lie between the solid and its facets";
   Positions push = Positions::Zero(3, 4);
   const double margin = 1e-3;
-  const ColliderPushOut result = push_out_of_collider(sphere, 0.0, surface.positions, surface.triangles, x,
-                                                      Eigen::VectorXd::Ones(4), margin, push);
+  const ColliderPushOut result =
+      push_out_of_collider(sphere, 0.0, surface.positions, surface.triangles, x, Triangles(3, 0),
+                           Eigen::VectorXd::Ones(4), margin, push);
   EXPECT_EQ(result.moved, 3);
   EXPECT_EQ(result.pinned_inside, 0);
   EXPECT_TRUE(push.col(3).isZero(0.0));
@@ -61,10 +63,38 @@ TEST(ColliderPushOut, AMovingBoxPushesAlongItsNearestFace) {
   Positions x(3, 1);
   x.col(0) = Vec3(1.2, 0.07, 0.0);  // 3 cm below the top face
   Positions push = Positions::Zero(3, 1);
-  const ColliderPushOut result =
-      push_out_of_collider(box, 1.0, surface, rest.triangles, x, Eigen::VectorXd::Ones(1), 1e-3, push);
+  const ColliderPushOut result = push_out_of_collider(box, 1.0, surface, rest.triangles, x, Triangles(3, 0),
+                                                      Eigen::VectorXd::Ones(1), 1e-3, push);
   EXPECT_EQ(result.moved, 1);
   EXPECT_TRUE((x.col(0) + push.col(0)).isApprox(Vec3(1.2, 0.101, 0.0), 1e-12));
+}
+
+TEST(ColliderPushOut, ASheetDeepInABoxComesOutThroughTheFaceItEnteredInOnePiece) {
+  // A vertical sheet entering a box through its top (y = 0.2) 5 cm from its +z side, 30 cm deep:
+  // its deep vertices are nearer the side face than the top, yet all leave through the top.
+  Collider box;
+  box.shape = ColliderShape::box;
+  box.half_extents = Vec3(0.5, 0.2, 0.5);
+  const TriangleMesh surface = collider_surface(box);
+  const TriangleMesh sheet = make_grid(11, 11, 0.4, 0.4, GridTriangulation::alternating);
+  Positions x = sheet.positions;
+  x.colwise() += Vec3(0.0, 0.1, 0.45);  // y in [-0.1, 0.3], the plane z = 0.45
+  Positions push = Positions::Zero(3, x.cols());
+  const ColliderPushOut result =
+      push_out_of_collider(box, 0.0, surface.positions, surface.triangles, x, sheet.triangles,
+                           Eigen::VectorXd::Ones(x.cols()), 1e-3, push);
+  int inside = 0;
+  for (Eigen::Index v = 0; v < x.cols(); ++v) inside += x(1, v) < 0.2;
+  EXPECT_EQ(result.moved, inside);
+  for (Eigen::Index v = 0; v < x.cols(); ++v) {
+    if (x(1, v) >= 0.2) {
+      EXPECT_TRUE(push.col(v).isZero(0.0)) << "vertex " << v << " is outside";
+      continue;
+    }
+    EXPECT_NEAR(push(0, v), 0.0, 1e-12) << "vertex " << v;
+    EXPECT_NEAR(push(2, v), 0.0, 1e-12) << "vertex " << v;
+    EXPECT_NEAR(x(1, v) + push(1, v), 0.201, 1e-9) << "vertex " << v << " ends just above the top";
+  }
 }
 
 TEST(ColliderPushOut, APinnedVertexInsideIsCountedAndStays) {
@@ -77,8 +107,8 @@ TEST(ColliderPushOut, APinnedVertexInsideIsCountedAndStays) {
   Eigen::VectorXd inverse_mass(2);
   inverse_mass << 1.0, 0.0;
   Positions push = Positions::Zero(3, 2);
-  const ColliderPushOut result =
-      push_out_of_collider(sphere, 0.0, surface.positions, surface.triangles, x, inverse_mass, 1e-3, push);
+  const ColliderPushOut result = push_out_of_collider(sphere, 0.0, surface.positions, surface.triangles, x,
+                                                      Triangles(3, 0), inverse_mass, 1e-3, push);
   EXPECT_EQ(result.moved, 1);
   EXPECT_EQ(result.pinned_inside, 1);
   EXPECT_EQ(result.first_pinned, 1);
