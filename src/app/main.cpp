@@ -250,6 +250,7 @@ int run_viewer_command(const CLI::App& app, CommandLine& line) {
   options.box_depth = line.box_depth;
   options.subdivision = line.subdivision;
   options.test_contacts = line.test_contacts;
+  options.threads = line.headless_options.threads;
   parse_window_size(line.window_size_text, options.width, options.height);
   return weft::run_viewer(options);
 #else

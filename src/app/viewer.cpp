@@ -644,6 +644,7 @@ int run_viewer(const ViewerOptions& options) {
     std::fprintf(stderr, "weft: %s\n", error.what());
     return 2;
   }
+  session->set_threads(options.threads);
   const bool starts_tangled = say_start_tangles(*session);
 
   // Installed (PREFIX/bin/weft beside PREFIX/share/weft/shaders), else the source tree built from.

@@ -18,6 +18,7 @@ struct ViewerOptions {
   int subdivision = 0;                 // Loop subdivision levels of the displayed cloth (0 to 2)
   bool test_contacts = false;          // draw synthetic contacts (tests the contact display path)
   int width = 1280, height = 720;
+  int threads = 1;  // solver threads (--threads; 0: all cores)
 };
 
 // Opens the window and runs until closed. Returns the process exit code: 0, 1 when no window

@@ -1,5 +1,7 @@
 #include "ui/simulation_session.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -51,6 +53,7 @@ bool SimulationSession::replace_world(const std::string& scene_path, const std::
     return false;
   }
   set_max_time_step(scene_.time_step);
+  world_.settings.threads = threads_;
   frame_ = 0;
   step_in_frame_ = 0;
   time_owed_ = 0.0;
@@ -67,6 +70,11 @@ bool SimulationSession::load(const std::string& scene_path) {
   scene_path_ = scene_path;
   overrides_.clear();
   return true;
+}
+
+void SimulationSession::set_threads(int threads) {
+  threads_ = threads > 0 ? threads : std::max(1, omp_get_num_procs());
+  world_.settings.threads = threads_;
 }
 
 void SimulationSession::set_max_time_step(double max_time_step) {

@@ -34,6 +34,10 @@ class SimulationSession {
   // so a heavy scene runs slower than real time instead of freezing the UI. Returns the steps taken.
   int play(double wall_seconds, double speed, double budget_ms);
 
+  // Solver threads for this and every later world (a reset or another scene keeps them): the
+  // viewer's --threads, 0 for all cores. Results are the same on any count.
+  void set_threads(int threads);
+  int threads() const { return world_.settings.threads; }
   // Largest time step (s); the frame is cut into frame_schedule(fps, max_time_step) steps.
   double max_time_step() const { return max_time_step_; }
   void set_max_time_step(double max_time_step);
@@ -73,6 +77,7 @@ class SimulationSession {
   int previous_contacts_ = 0;
   std::string error_;
   int generation_ = 0;
+  int threads_ = 1;  // set_threads
 };
 
 // The scene files (*.json) in `folder`, sorted by name; empty if it cannot be listed.

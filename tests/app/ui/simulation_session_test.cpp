@@ -1,6 +1,9 @@
 #include "ui/simulation_session.hpp"
 
 #include <gtest/gtest.h>
+#include <omp.h>
+
+#include <algorithm>
 
 #include <filesystem>
 #include <fstream>
@@ -32,6 +35,18 @@ const char* const small_scene = R"({
   "solver": {"time_step": 0.005},
   "cloths": [{"grid": {"size": [1, 1], "resolution": [4, 4]}, "pins": {"corners": ["top_left"]}}]
 })";
+
+TEST(SimulationSession, StepsOnTheThreadsAskedForThroughResets) {
+  const SceneFile file(small_scene);
+  SimulationSession session(file.path(), {});
+  EXPECT_EQ(session.threads(), 1);
+  session.set_threads(3);
+  EXPECT_EQ(session.world().settings.threads, 3);
+  ASSERT_TRUE(session.reset());
+  EXPECT_EQ(session.world().settings.threads, 3) << "a reset keeps the thread count";
+  session.set_threads(0);
+  EXPECT_EQ(session.threads(), std::max(1, omp_get_num_procs())) << "0: all cores";
+}
 
 TEST(SimulationSession, AdvancesOneFrameOfSimulatedTime) {
   const SceneFile file(small_scene);
