@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "temp_scene_file.hpp"
+#include "ui/temp_scene_file.hpp"
 #include "ui/simulation_session.hpp"
 
 namespace weft {
