@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace weft {
@@ -25,6 +26,32 @@ TEST(OrbitCamera, FrameKeepsEveryBoxCornerInView) {
           to_ndc(view_projection, box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)));
       EXPECT_LE(ndc.head<3>().cwiseAbs().maxCoeff(), 1.0f) << "aspect " << aspect << ", corner " << corner;
     }
+  }
+}
+
+TEST(OrbitCamera, KeepInViewMovesBackUntilTheBoxFitsWithItsBorderAndNeverCloser) {
+  // A view set close to an off-centre target, as a scene's "view" may be for a later frame.
+  const Eigen::AlignedBox3d box(Eigen::Vector3d(-1.0, 0.9, -1.0), Eigen::Vector3d(1.0, 1.1, 1.0));
+  for (const double aspect : {16.0 / 9.0, 1.0, 0.5}) {
+    OrbitCamera camera;
+    camera.set_angles(0.5, 0.4);
+    camera.set_target(Eigen::Vector3d(0.0, 0.1, 0.0));
+    camera.set_distance(1.0);
+    camera.keep_in_view(box, aspect);
+    EXPECT_TRUE(camera.target().isApprox(Eigen::Vector3d(0.0, 0.1, 0.0)));
+    const Eigen::Matrix4f view_projection = camera.projection_matrix(aspect) * camera.view_matrix();
+    float largest = 0.0f;
+    for (int corner = 0; corner < 8; ++corner) {
+      const Eigen::Vector3f ndc =
+          to_ndc(view_projection, box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)));
+      largest = std::max(largest, ndc.head<2>().cwiseAbs().maxCoeff());
+    }
+    // Within the 15% border, and touching it: no farther back than it must be.
+    EXPECT_NEAR(largest, 1.0f / 1.15f, 1e-3f) << "aspect " << aspect;
+    const double fitted = camera.distance();
+    camera.keep_in_view(Eigen::AlignedBox3d(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.01)),
+                        aspect);
+    EXPECT_EQ(camera.distance(), fitted) << "a box already in view does not bring the camera closer";
   }
 }
 
