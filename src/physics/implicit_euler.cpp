@@ -49,7 +49,7 @@ void ImplicitEulerSolver::prepare(const ClothModel& model, bool hinges_in_matrix
   } else {
     prepare_hessian(model, full_hessian_, full_stencils_, true);
   }
-  light_active_ = !hinges_in_matrix;
+  hinges_out_of_matrix_ = !hinges_in_matrix;
   x_start_.resize(3, num_vertices_);
   x_hat_.resize(3, num_vertices_);
   gradient_.resize(3, num_vertices_);
@@ -132,7 +132,7 @@ const IncrementalPotentialParts* ImplicitEulerSolver::last_evaluation_at(const P
 void ImplicitEulerSolver::swap_patterns() {
   hessian_.swap(full_hessian_);
   std::swap(stencils_, full_stencils_);
-  light_active_ = !light_active_;
+  hinges_out_of_matrix_ = !hinges_out_of_matrix_;
 }
 
 // Solves H dx = rhs_; returns false if the solver failed (for Cholesky: H not positive definite).
@@ -177,7 +177,7 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   if (!prepared_ || num_vertices_ != cloth.num_vertices() || hinges_in_matrix != hinges_in_matrix_) {
     prepare(model, hinges_in_matrix);
   }
-  if (!hinges_in_matrix_ && !light_active_) swap_patterns();  // each step starts without them
+  if (!hinges_in_matrix_ && !hinges_out_of_matrix_) swap_patterns();  // each step starts without them
   report_.newton_iterations = 0;
   report_.linear_iterations = 0;
   report_.converged = false;
@@ -282,9 +282,9 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
        iteration < settings.max_newton_iterations && (iteration == 0 || !report_.converged); ++iteration) {
     report_.gradient_norms.push_back(gradient_vector().norm());
     const int linear_before = report_.linear_iterations;
-    // A step still unconverged after light_matrix_iterations without the hinges goes on with them:
+    // A step still unconverged after hinges_out_of_matrix_iterations without the hinges goes on with them:
     // where the cloth folds or slides off an edge the matrix without them can stall Newton.
-    if (light_active_ && iteration == settings.light_matrix_iterations) {
+    if (hinges_out_of_matrix_ && iteration == settings.hinges_out_of_matrix_iterations) {
       swap_patterns();
       ++report_.full_matrix_steps;
       assembled = false;

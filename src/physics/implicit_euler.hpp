@@ -59,7 +59,7 @@ struct ImplicitEulerSettings {
   // iterations goes on with them (the matrix with them is kept prepared beside): where a cloth
   // folds over an edge or lies on another, the matrix without them stalls Newton (two_sheets).
   // 6 iterations is the cheapest of those measured (docs/integrators.md, same section).
-  int light_matrix_iterations = 6;
+  int hinges_out_of_matrix_iterations = 6;
   // Fills NewtonReport::iterations (weft --newton-log): one more pass over the vertices an
   // iteration, to count those above the tolerance.
   bool record_iterations = false;
@@ -88,7 +88,7 @@ struct NewtonReport {
   int diverged_stops = 0;              // 1 when the step stopped with the residual far above its best
                                        // for several iterations (the best iterate is returned)
   int full_matrix_steps = 0;           // 1 when the step began without the hinges' Hessian in the
-                                       // matrix and went on with it (light_matrix_iterations)
+                                       // matrix and went on with it (hinges_out_of_matrix_iterations)
   std::vector<double> gradient_norms;  // |grad of incremental potential| over free vertices, per iteration
   // With ImplicitEulerSettings::record_iterations: the start, then one record per global
   // iteration; empty otherwise.
@@ -169,7 +169,7 @@ class ImplicitEulerSolver {
   HessianStencils stencils_;
   SparseHessian full_hessian_;  // without the hinges in the pattern: the one with them, else empty
   HessianStencils full_stencils_;
-  bool light_active_ = false;  // hessian_ is the one without the hinges
+  bool hinges_out_of_matrix_ = false;  // hessian_ is the one without the hinges
   Positions x_start_, x_hat_, gradient_, trial_;
   Positions best_x_;           // the iterate with the smallest residual so far
   Eigen::VectorXd free_mask_;  // 1 for free coordinates, 0 for pinned (3n)

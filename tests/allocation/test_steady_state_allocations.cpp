@@ -91,7 +91,7 @@ INSTANTIATE_TEST_SUITE_P(LinearSolvers, SteadyState, ::testing::Values("conjugat
 
 TEST(SteadyStateSwitch, StepsThatPutTheHingesBackIntoTheMatrixAllocateNothing) {
   // Implicit Euler without the hinges' Hessian in CG's matrix, going on with it from a step's first
-  // iteration (light_matrix_iterations 0): every step switches patterns twice (back at its start).
+  // iteration (hinges_out_of_matrix_iterations 0): every step switches patterns twice (back at its start).
   nlohmann::json scene = nlohmann::json::parse(R"({
     "gravity": [0, -9.81, 0],
     "solver": {"integrator": "implicit_euler", "time_step": 0.004166666666666667},
@@ -108,7 +108,7 @@ TEST(SteadyStateSwitch, StepsThatPutTheHingesBackIntoTheMatrixAllocateNothing) {
   ImplicitEulerSettings settings;
   settings.newton_tolerance = 1e-4;
   settings.bending_hessian_share = 1e9;
-  settings.light_matrix_iterations = 0;
+  settings.hinges_out_of_matrix_iterations = 0;
   ImplicitEulerSolver solver;
   const Vec3 gravity(0.0, -9.81, 0.0);
   for (int step = 0; step < 10; ++step) solver.step(cloth, gravity, 1.0 / 240.0, settings);

@@ -299,7 +299,7 @@ TEST(ImplicitEuler, TheHingesLeftOutOfTheMatrixChangeNeitherTheAnswerNorTheResid
   kept.bending_hessian_share = 0.0;
   ImplicitEulerSettings left_out = kept;
   left_out.bending_hessian_share = 1e9;
-  left_out.light_matrix_iterations = 1000;
+  left_out.hinges_out_of_matrix_iterations = 1000;
   const Vec3 gravity(0.0, -9.81, 0.0);
   Cloth with = start, without = start, switched = start;
   ImplicitEulerSolver with_solver, without_solver, switched_solver;
@@ -312,14 +312,14 @@ TEST(ImplicitEuler, TheHingesLeftOutOfTheMatrixChangeNeitherTheAnswerNorTheResid
     if (k == 0) {
       EXPECT_NE(a.gradient_norms, b.gradient_norms) << "another matrix, other iterates";
       EXPECT_EQ(a.full_matrix_steps, 0);
-      EXPECT_EQ(b.full_matrix_steps, 0) << "light_matrix_iterations is past this step's iterations";
+      EXPECT_EQ(b.full_matrix_steps, 0) << "hinges_out_of_matrix_iterations is past this step's iterations";
     }
     EXPECT_LT((with.state.x - without.state.x).colwise().norm().maxCoeff(), 1e-8) << "step " << k;
     EXPECT_LT((with.state.x - switched.state.x).colwise().norm().maxCoeff(), 1e-8) << "step " << k;
   }
 }
 
-// A step begun without the hinges in the matrix goes on with them after light_matrix_iterations:
+// A step begun without the hinges in the matrix goes on with them after hinges_out_of_matrix_iterations:
 // at 0 its iterates are the same as with the hinges always in (the switch comes before the first
 // solve), after 2 it switches once and still ends at the same answer.
 TEST(ImplicitEuler, AStepThatRunsLongWithoutTheHingesGoesOnWithThem) {
@@ -338,17 +338,17 @@ TEST(ImplicitEuler, AStepThatRunsLongWithoutTheHingesGoesOnWithThem) {
   ASSERT_TRUE(reference.converged);
   ASSERT_GT(reference.newton_iterations, 2);
 
-  for (const int light_iterations : {0, 2}) {
-    SCOPED_TRACE(light_iterations);
+  for (const int out_of_matrix_iterations : {0, 2}) {
+    SCOPED_TRACE(out_of_matrix_iterations);
     ImplicitEulerSettings switching = kept;
     switching.bending_hessian_share = 1e9;
-    switching.light_matrix_iterations = light_iterations;
+    switching.hinges_out_of_matrix_iterations = out_of_matrix_iterations;
     Cloth cloth = start;
     ImplicitEulerSolver solver;
     const NewtonReport report = solver.step(cloth, gravity, h, switching);
     EXPECT_TRUE(report.converged);
     EXPECT_EQ(report.full_matrix_steps, 1);
-    if (light_iterations == 0) {
+    if (out_of_matrix_iterations == 0) {
       EXPECT_EQ(report.gradient_norms, reference.gradient_norms);
     } else {
       EXPECT_NE(report.gradient_norms, reference.gradient_norms);
