@@ -1,4 +1,4 @@
-// BVH broad phase on randomly crumpled n x n grids: build, swept refit and self query, at 1 and
+// BVH broad phase on randomly crumpled n x n grids: build and swept refit, at 1 and
 // 2 threads. Arguments: vertices per side, threads.
 //   cmake --build build/release --target weft_bench
 //   build/release/bench/weft_bench --benchmark_filter=Bvh --benchmark_repetitions=3
@@ -66,20 +66,6 @@ void bvh_refit(benchmark::State& state) {
   state.counters["degradation"] = bvh.degradation();
 }
 
-void bvh_self_query(benchmark::State& state) {
-  const CrumpledGrid grid = crumpled_grid(static_cast<int>(state.range(0)));
-  omp_set_num_threads(static_cast<int>(state.range(1)));
-  Bvh bvh;
-  bvh.build(grid.mesh.positions, grid.x_end, grid.mesh.triangles, grid.margin);
-  BvhQueryBuffers buffers;
-  std::vector<TrianglePair> pairs;
-  for (auto _ : state) {
-    find_self_pairs(bvh, buffers, pairs);
-    benchmark::DoNotOptimize(pairs.data());
-  }
-  state.counters["pairs"] = static_cast<double>(pairs.size());
-}
-
 void grid_sizes_and_threads(benchmark::internal::Benchmark* benchmark) {
   for (const int n : {32, 64, 128}) {
     for (const int threads : {1, 2}) benchmark->Args({n, threads});
@@ -89,7 +75,6 @@ void grid_sizes_and_threads(benchmark::internal::Benchmark* benchmark) {
 
 BENCHMARK(bvh_build)->Name("Bvh/build")->Apply(grid_sizes_and_threads);
 BENCHMARK(bvh_refit)->Name("Bvh/refit")->Apply(grid_sizes_and_threads);
-BENCHMARK(bvh_self_query)->Name("Bvh/self_query")->Apply(grid_sizes_and_threads);
 
 }  // namespace
 }  // namespace weft

@@ -7,9 +7,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "collision/bvh_traversal.hpp"
-#include "core/topology.hpp"
-
 namespace weft {
 
 double Aabb::surface_area() const {
@@ -31,52 +28,6 @@ void check_positions(const Positions& x_start, const Positions& x_end, double ma
   if (!(margin >= 0.0)) {
     throw std::invalid_argument(std::string(where) + ": margin must be >= 0, got " + std::to_string(margin));
   }
-}
-
-// Triangle pairs whose boxes overlap, into per-thread lists (with `self`, pairs sharing a vertex
-// skipped unless `keep_neighbours`, each pair with the smaller triangle first), then sorted and
-// deduplicated into `pairs`.
-template <bool self>
-void find_pairs(const Bvh& first, const Bvh& second, bool keep_neighbours, const char* culled,
-                BvhQueryBuffers& buffers, std::vector<TrianglePair>& pairs) {
-  pairs.clear();
-  // Per-thread buffers grow to the largest thread count seen, then stay.
-  const int num_threads = std::max(1, omp_get_max_threads());
-  if (static_cast<int>(buffers.thread_pairs.size()) < num_threads) buffers.thread_pairs.resize(num_threads);
-  for (std::vector<TrianglePair>& found : buffers.thread_pairs) found.clear();
-  const Triangles& triangles = first.triangles();
-  auto collect = [&](int thread, int s, int t) {
-    if (self) {
-      if (!keep_neighbours && share_vertex(triangles, s, t)) return;
-      buffers.thread_pairs[thread].push_back({std::min(s, t), std::max(s, t)});
-    } else {
-      buffers.thread_pairs[thread].push_back({s, t});
-    }
-  };
-  bvh_traversal::visit_overlapping_pairs<self>(first, second, culled, buffers, num_threads, collect);
-
-  // Sort by counting: bucket the pairs by their first triangle, then sort each small bucket by
-  // the second. Linear in the pairs, and the order does not depend on which thread found what.
-  std::vector<int>& bucket_ends = buffers.bucket_ends;
-  bucket_ends.assign(first.num_triangles() + 1, 0);
-  std::size_t total = 0;
-  for (const std::vector<TrianglePair>& found : buffers.thread_pairs) {
-    total += found.size();
-    for (const TrianglePair& pair : found) ++bucket_ends[pair.a + 1];
-  }
-  // Exclusive prefix sums: bucket_ends[a] is where bucket a starts; scattering advances it to
-  // where bucket a ends.
-  for (int a = 0; a < first.num_triangles(); ++a) bucket_ends[a + 1] += bucket_ends[a];
-  pairs.resize(total);
-  for (const std::vector<TrianglePair>& found : buffers.thread_pairs) {
-    for (const TrianglePair& pair : found) pairs[bucket_ends[pair.a]++] = pair;
-  }
-  int bucket_start = 0;
-  for (int a = 0; a < first.num_triangles(); ++a) {
-    std::sort(pairs.begin() + bucket_start, pairs.begin() + bucket_ends[a]);
-    bucket_start = bucket_ends[a];
-  }
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 }
 
 }  // namespace
@@ -318,35 +269,6 @@ void Bvh::sum_cost() {
   for (int i = num_nodes - 1; i >= 0; --i) total_area += node_areas_[i];
   const double root_area = nodes_.empty() ? 0.0 : nodes_[0].box.surface_area();
   cost_ = root_area > 0.0 ? total_area / root_area : 1.0;
-}
-
-void find_self_pairs(const Bvh& bvh, BvhQueryBuffers& buffers, std::vector<TrianglePair>& pairs,
-                     SharedVertexPairs shared_vertex_pairs, const std::vector<char>* culled) {
-  if (culled != nullptr && culled->size() != bvh.nodes().size()) {
-    throw std::invalid_argument("find_self_pairs: " + std::to_string(culled->size()) + " culling flags for " +
-                                std::to_string(bvh.nodes().size()) + " nodes");
-  }
-  find_pairs<true>(bvh, bvh, shared_vertex_pairs == SharedVertexPairs::keep, culled ? culled->data() : nullptr,
-                   buffers, pairs);
-}
-
-std::vector<TrianglePair> find_self_pairs(const Bvh& bvh, SharedVertexPairs shared_vertex_pairs) {
-  BvhQueryBuffers buffers;
-  std::vector<TrianglePair> pairs;
-  find_self_pairs(bvh, buffers, pairs, shared_vertex_pairs);
-  return pairs;
-}
-
-void find_pairs_between(const Bvh& first, const Bvh& second, BvhQueryBuffers& buffers,
-                        std::vector<TrianglePair>& pairs) {
-  find_pairs<false>(first, second, false, nullptr, buffers, pairs);
-}
-
-std::vector<TrianglePair> find_pairs_between(const Bvh& first, const Bvh& second) {
-  BvhQueryBuffers buffers;
-  std::vector<TrianglePair> pairs;
-  find_pairs_between(first, second, buffers, pairs);
-  return pairs;
 }
 
 void find_triangles_in_box(const Bvh& bvh, const Aabb& box, std::vector<int>& triangles) {

@@ -11,8 +11,8 @@
 // walks the array without a stack. The tree is built top-down once (binned SAH), refitted
 // every step, and rebuilt when `needs_rebuild()` says refitting has made it too loose.
 //
-// Pair queries run in parallel with OpenMP (the caller sets the thread count) and return a
-// sorted, duplicate-free list, identical for any number of threads.
+// Pair queries walk two hierarchies (or one against itself) in parallel with OpenMP
+// (bvh_traversal.hpp); the broad phase over primitives (primitive_queries.hpp) is built on them.
 #include <limits>
 #include <vector>
 
@@ -156,40 +156,14 @@ struct TrianglePair {
   bool operator<(const TrianglePair& other) const { return a != other.a ? a < other.a : b < other.b; }
 };
 
-// Scratch space of the pair queries, kept by the caller between steps so that steady-state
-// queries do not allocate: the node-pair tasks handed to threads, each thread's traversal stack
-// and found pairs, and the buckets of the final sort.
+// Scratch space of the pair walks, kept by the caller between steps so that steady-state
+// queries do not allocate: the node-pair tasks handed to threads and each thread's traversal
+// stack.
 struct BvhQueryBuffers {
   std::vector<TrianglePair> tasks;                       // node pairs (a == b: "within node a")
   std::vector<TrianglePair> next_tasks;                  // scratch while splitting tasks
   std::vector<std::vector<TrianglePair>> thread_stacks;  // node pairs still to visit, per thread
-  std::vector<std::vector<TrianglePair>> thread_pairs;   // triangle pairs found, per thread
-  std::vector<int> bucket_ends;                          // counting sort by first triangle
 };
-
-// Whether a self query reports pairs of triangles that share a vertex. Skipping them (the
-// default) drops every neighbour pair, but it also drops the vertex-face and edge-edge pairs
-// within two rings of each other that only neighbouring triangles carry, e.g. the far vertex of
-// a hinge folding flat onto the other triangle, or a hem folding through the row next to it.
-// `keep` reports them (about 6 more pairs per triangle on a grid) for a caller that filters the
-// primitives of each pair itself. The collision phase does not use these triangle-pair queries:
-// it queries primitive pairs directly (primitive_queries.hpp).
-enum class SharedVertexPairs { skip, keep };
-
-// Pairs of triangles of one mesh whose boxes overlap; each pair once with a < b, sorted.
-// Replaces the contents of `pairs`. With `culled` (one flag per node, SelfCulling::culled()),
-// the pairs within a flagged node are skipped.
-void find_self_pairs(const Bvh& bvh, BvhQueryBuffers& buffers, std::vector<TrianglePair>& pairs,
-                     SharedVertexPairs shared_vertex_pairs = SharedVertexPairs::skip,
-                     const std::vector<char>* culled = nullptr);
-std::vector<TrianglePair> find_self_pairs(const Bvh& bvh,
-                                          SharedVertexPairs shared_vertex_pairs = SharedVertexPairs::skip);
-
-// Pairs (triangle of `first`, triangle of `second`) whose boxes overlap, for two different
-// meshes (cloth-cloth, cloth-obstacle); sorted. Replaces the contents of `pairs`.
-void find_pairs_between(const Bvh& first, const Bvh& second, BvhQueryBuffers& buffers,
-                        std::vector<TrianglePair>& pairs);
-std::vector<TrianglePair> find_pairs_between(const Bvh& first, const Bvh& second);
 
 // Triangles whose boxes overlap `box` (picking, analytic colliders), sorted. Single-threaded,
 // no stack: replaces the contents of `triangles` and allocates only if it must grow.

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/mesh_generators.hpp"
+#include "support/bvh_pairs.hpp"
 
 namespace weft {
 namespace {
@@ -204,7 +205,7 @@ TEST(Bvh, SelfPairsMatchBruteForceOnRandomSoups) {
     const std::vector<TrianglePair> expected =
         brute_force_self(soup.positions, x_end, soup.triangles, margin);
     EXPECT_GT(expected.size(), 100u);
-    EXPECT_EQ(find_self_pairs(bvh), expected) << "seed " << seed;
+    EXPECT_EQ(testing::self_pairs(bvh), expected) << "seed " << seed;
   }
 }
 
@@ -214,7 +215,7 @@ TEST(Bvh, SelfPairsMatchBruteForceOnFlatGrid) {
   for (const double margin : {0.0, 0.1 * spacing, 0.6 * spacing}) {
     Bvh bvh;
     bvh.build(grid.positions, grid.triangles, margin);
-    const std::vector<TrianglePair> pairs = find_self_pairs(bvh);
+    const std::vector<TrianglePair> pairs = testing::self_pairs(bvh);
     EXPECT_EQ(pairs, brute_force_self(grid.positions, grid.positions, grid.triangles, margin));
     // Neighbours through a vertex never appear.
     for (const TrianglePair& pair : pairs) {
@@ -232,7 +233,7 @@ TEST(Bvh, SelfPairsMatchBruteForceOnCrumpledGrids) {
     bvh.build(grid.positions, x_end, grid.triangles, 0.004);
     const std::vector<TrianglePair> expected = brute_force_self(grid.positions, x_end, grid.triangles, 0.004);
     EXPECT_GT(expected.size(), 500u);
-    EXPECT_EQ(find_self_pairs(bvh), expected) << "seed " << seed;
+    EXPECT_EQ(testing::self_pairs(bvh), expected) << "seed " << seed;
   }
 }
 
@@ -243,10 +244,10 @@ TEST(Bvh, SelfPairsCanKeepNeighbours) {
     for (const TriangleMesh* mesh : std::vector<const TriangleMesh*>{&grid, &soup}) {
       Bvh bvh;
       bvh.build(mesh->positions, mesh->triangles, 0.004);
-      const std::vector<TrianglePair> all = find_self_pairs(bvh, SharedVertexPairs::keep);
+      const std::vector<TrianglePair> all = testing::self_pairs(bvh, testing::SharedVertexPairs::keep);
       EXPECT_EQ(all, brute_force_self(mesh->positions, mesh->positions, mesh->triangles, 0.004, true));
       // The extra pairs are exactly the neighbours.
-      const std::vector<TrianglePair> skipped = find_self_pairs(bvh);
+      const std::vector<TrianglePair> skipped = testing::self_pairs(bvh);
       std::vector<TrianglePair> neighbours;
       std::set_difference(all.begin(), all.end(), skipped.begin(), skipped.end(), std::back_inserter(neighbours));
       EXPECT_EQ(neighbours.size() + skipped.size(), all.size());
@@ -260,17 +261,15 @@ TEST(Bvh, RefitMatchesBruteForceAtNewPositions) {
   Bvh bvh;
   bvh.build(grid.positions, grid.triangles, 0.003);
   Positions x_start = grid.positions;
-  BvhQueryBuffers buffers;
-  std::vector<TrianglePair> pairs;
   for (int step = 0; step < 5; ++step) {
     const Positions x_end = displaced(x_start, 0.01, 50 + step);
     bvh.refit(x_start, x_end, 0.003);
-    find_self_pairs(bvh, buffers, pairs);
+    const std::vector<TrianglePair> pairs = testing::self_pairs(bvh);
     EXPECT_EQ(pairs, brute_force_self(x_start, x_end, grid.triangles, 0.003)) << "step " << step;
     // A tree built afresh at these positions finds the same pairs.
     Bvh fresh;
     fresh.build(x_start, x_end, grid.triangles, 0.003);
-    EXPECT_EQ(find_self_pairs(fresh), pairs);
+    EXPECT_EQ(testing::self_pairs(fresh), pairs);
     x_start = x_end;
   }
 }
@@ -325,9 +324,9 @@ TEST(Bvh, PairsBetweenTwoMeshesMatchBruteForce) {
     a.build(cloth.positions, cloth.triangles, 0.004);
     b.build(second->positions, second->triangles, 0.004);
     const std::vector<TrianglePair> expected = brute_force_between(cloth, *second, 0.004);
-    EXPECT_EQ(find_pairs_between(a, b), expected);
+    EXPECT_EQ(testing::pairs_between(a, b), expected);
     // Swapping the meshes swaps each pair.
-    std::vector<TrianglePair> swapped = find_pairs_between(b, a);
+    std::vector<TrianglePair> swapped = testing::pairs_between(b, a);
     for (TrianglePair& pair : swapped) std::swap(pair.a, pair.b);
     std::sort(swapped.begin(), swapped.end());
     EXPECT_EQ(swapped, expected);
@@ -337,7 +336,7 @@ TEST(Bvh, PairsBetweenTwoMeshesMatchBruteForce) {
   Bvh a, b;
   a.build(cloth.positions, cloth.triangles, 0.0);
   b.build(cloth.positions, cloth.triangles, 0.0);
-  const std::vector<TrianglePair> pairs = find_pairs_between(a, b);
+  const std::vector<TrianglePair> pairs = testing::pairs_between(a, b);
   for (int t = 0; t < cloth.num_triangles(); ++t) {
     EXPECT_TRUE(std::binary_search(pairs.begin(), pairs.end(), TrianglePair{t, t}));
   }
@@ -382,8 +381,8 @@ TEST(Bvh, ResultsIdenticalAtOneAndTwoThreads) {
     bvh.build(grid.positions, grid.triangles, 0.003);
     bvh.refit(grid.positions, x_end, 0.003);
     other_bvh.build(other.positions, other.triangles, 0.003);
-    self_results.push_back(find_self_pairs(bvh));
-    between_results.push_back(find_pairs_between(bvh, other_bvh));
+    self_results.push_back(testing::self_pairs(bvh));
+    between_results.push_back(testing::pairs_between(bvh, other_bvh));
   }
   omp_set_num_threads(threads_before);
   EXPECT_GT(self_results[0].size(), 1000u);
@@ -392,27 +391,6 @@ TEST(Bvh, ResultsIdenticalAtOneAndTwoThreads) {
   EXPECT_EQ(self_results[0], self_results[2]);
   EXPECT_EQ(between_results[0], between_results[1]);
   EXPECT_EQ(between_results[0], between_results[2]);
-}
-
-TEST(Bvh, SteadyStateQueriesReuseTheirBuffers) {
-  // One thread, so that each thread's share of the pairs is the same from call to call.
-  const int threads_before = omp_get_max_threads();
-  omp_set_num_threads(1);
-  const TriangleMesh grid = crumpled_grid(30, 51);
-  Bvh bvh;
-  bvh.build(grid.positions, grid.triangles, 0.003);
-  BvhQueryBuffers buffers;
-  std::vector<TrianglePair> pairs;
-  find_self_pairs(bvh, buffers, pairs);
-  const TrianglePair* pairs_data = pairs.data();
-  const TrianglePair* found_data = buffers.thread_pairs[0].data();
-  const int* buckets_data = buffers.bucket_ends.data();
-  bvh.refit(grid.positions, 0.003);
-  find_self_pairs(bvh, buffers, pairs);
-  omp_set_num_threads(threads_before);
-  EXPECT_EQ(pairs.data(), pairs_data);
-  EXPECT_EQ(buffers.thread_pairs[0].data(), found_data);
-  EXPECT_EQ(buffers.bucket_ends.data(), buckets_data);
 }
 
 TEST(Bvh, RebuildTriggerFiresWhenScrambled) {
@@ -442,7 +420,7 @@ TEST(Bvh, RebuildTriggerFiresWhenScrambled) {
   EXPECT_GT(bvh.degradation(), 10.0);
   EXPECT_TRUE(bvh.needs_rebuild());
   // Pairs are still right before the rebuild, and a rebuild restores the quality.
-  EXPECT_EQ(find_self_pairs(bvh), brute_force_self(scrambled, scrambled, grid.triangles, 0.003));
+  EXPECT_EQ(testing::self_pairs(bvh), brute_force_self(scrambled, scrambled, grid.triangles, 0.003));
   bvh.build(scrambled, grid.triangles, 0.003);
   EXPECT_FALSE(bvh.needs_rebuild());
 }
@@ -451,7 +429,7 @@ TEST(Bvh, EmptyAndTinyMeshes) {
   Bvh bvh;
   bvh.build(Positions(3, 0), Triangles(3, 0), 0.01);
   EXPECT_TRUE(bvh.nodes().empty());
-  EXPECT_TRUE(find_self_pairs(bvh).empty());
+  EXPECT_TRUE(testing::self_pairs(bvh).empty());
   bvh.refit(Positions(3, 0), 0.01);
   std::vector<int> found;
   find_triangles_in_box(bvh, Aabb{Vec3::Constant(-1.0), Vec3::Constant(1.0)}, found);
@@ -461,9 +439,9 @@ TEST(Bvh, EmptyAndTinyMeshes) {
   Bvh single;
   single.build(one.positions, one.triangles, 0.01);
   EXPECT_EQ(single.nodes().size(), 1u);
-  EXPECT_TRUE(find_self_pairs(single).empty());
-  EXPECT_TRUE(find_pairs_between(single, bvh).empty());
-  EXPECT_EQ(find_pairs_between(single, single), (std::vector<TrianglePair>{{0, 0}}));
+  EXPECT_TRUE(testing::self_pairs(single).empty());
+  EXPECT_TRUE(testing::pairs_between(single, bvh).empty());
+  EXPECT_EQ(testing::pairs_between(single, single), (std::vector<TrianglePair>{{0, 0}}));
 
   // Every triangle at one point: no split plane exists, the build still halves the ranges.
   Positions collapsed = Positions::Zero(3, 30);
@@ -472,7 +450,7 @@ TEST(Bvh, EmptyAndTinyMeshes) {
   Bvh point;
   point.build(collapsed, triangles, 0.0);
   expect_valid_tree(point);
-  EXPECT_EQ(find_self_pairs(point).size(), 45u);
+  EXPECT_EQ(testing::self_pairs(point).size(), 45u);
 }
 
 TEST(Bvh, RejectsBadInput) {

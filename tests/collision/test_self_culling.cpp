@@ -13,6 +13,7 @@
 
 #include "check/intersection_check.hpp"
 #include "core/mesh_generators.hpp"
+#include "support/bvh_pairs.hpp"
 
 namespace weft {
 namespace {
@@ -20,10 +21,7 @@ namespace {
 std::vector<TrianglePair> culled_pairs(const Bvh& bvh, SelfCulling& culling, const Positions& x_start,
                                        const Positions& x_end, double margin) {
   culling.update(bvh, x_start, x_end, margin);
-  BvhQueryBuffers buffers;
-  std::vector<TrianglePair> pairs;
-  find_self_pairs(bvh, buffers, pairs, SharedVertexPairs::keep, &culling.culled());  // as the collision phase
-  return pairs;
+  return testing::self_pairs(bvh, testing::SharedVertexPairs::keep, &culling.culled());
 }
 
 TEST(SelfCulling, GridIsADiskAndTheRootOfAnAnnulusOrOfTwoPiecesIsNot) {
@@ -65,7 +63,7 @@ TEST(SelfCulling, FlatFallingSheetIsCulledWhole) {
   x_end.row(2).array() -= 0.01;
   Bvh bvh;
   bvh.build(grid.positions, x_end, grid.triangles, 0.0025);
-  ASSERT_FALSE(find_self_pairs(bvh).empty()) << "without culling the flat sheet has candidate pairs";
+  ASSERT_FALSE(testing::self_pairs(bvh).empty()) << "without culling the flat sheet has candidate pairs";
   SelfCulling culling;
   EXPECT_TRUE(culled_pairs(bvh, culling, grid.positions, x_end, 0.005).empty());
   EXPECT_TRUE(culling.culled()[0]);
@@ -74,10 +72,9 @@ TEST(SelfCulling, FlatFallingSheetIsCulledWhole) {
   SelfCullingSettings off;
   off.enabled = false;
   culling.update(bvh, grid.positions, x_end, 0.005, off);
-  BvhQueryBuffers buffers;
-  std::vector<TrianglePair> pairs;
-  find_self_pairs(bvh, buffers, pairs, SharedVertexPairs::skip, &culling.culled());
-  EXPECT_EQ(pairs, find_self_pairs(bvh)) << "culling off changes nothing";
+  EXPECT_EQ(testing::self_pairs(bvh, testing::SharedVertexPairs::skip, &culling.culled()),
+            testing::self_pairs(bvh))
+      << "culling off changes nothing";
 }
 
 // The collision phase updates the culling again on its corrected motion, where few vertices moved:
@@ -128,7 +125,7 @@ TEST(SelfCulling, FoldedSheetKeepsThePairsBetweenItsLayers) {
   }
   Bvh bvh;
   bvh.build(x, grid.triangles, 0.0025);
-  const std::vector<TrianglePair> all = find_self_pairs(bvh, SharedVertexPairs::keep);
+  const std::vector<TrianglePair> all = testing::self_pairs(bvh, testing::SharedVertexPairs::keep);
   SelfCulling culling;
   const std::vector<TrianglePair> kept = culled_pairs(bvh, culling, x, x, 0.005);
   EXPECT_FALSE(culling.culled()[0]);
@@ -172,7 +169,7 @@ TEST(SelfCulling, DroppedPairsNeverIntersectDuringTheStep) {
     const Positions x_end = shape(px + 0.5 * unit(rng), py + 0.5 * unit(rng), k);
     Bvh bvh;
     bvh.build(x_start, x_end, grid.triangles, 0.0025);
-    const std::vector<TrianglePair> all = find_self_pairs(bvh, SharedVertexPairs::keep);
+    const std::vector<TrianglePair> all = testing::self_pairs(bvh, testing::SharedVertexPairs::keep);
     SelfCulling culling;
     const std::vector<TrianglePair> kept = culled_pairs(bvh, culling, x_start, x_end, 0.005);
     ASSERT_TRUE(std::includes(all.begin(), all.end(), kept.begin(), kept.end())) << "trial " << trial;
