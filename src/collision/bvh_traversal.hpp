@@ -1,9 +1,9 @@
 #pragma once
 // The walk behind every pair query over two hierarchies (or one against itself): node pairs
 // whose boxes overlap are split until both are leaves, and each pair of leaf entries whose
-// boxes overlap is handed to a visitor. A template, so that the triangle-pair queries
-// (bvh.cpp) and the primitive-level broad phase (primitive_queries.cpp) each filter pairs
-// where they are found, with no call through a pointer per pair and no intermediate list.
+// boxes overlap is handed to a visitor. A template, so that the primitive-level broad phase
+// (primitive_queries.cpp) and untangling's edge-triangle search (untangling.cpp) each filter
+// pairs where they are found, with no call through a pointer per pair and no intermediate list.
 //
 // The root task is split breadth first, serially, into a fixed number of node-pair tasks (the
 // same split on any thread count), which threads then take dynamically. Which thread visits a

@@ -191,7 +191,9 @@ TEST(MembraneStvk, ASmallestStretchResistsFlatteningAtFullStiffness) {
     const double e = 0.5 * (stretch * stretch - 1.0);
     const double extra = e < e0 ? mu * (1.0 - soft.compression_factor) * (e - e0) * (e - e0) * volume : 0.0;
     EXPECT_NEAR(floored_energy - soft_energy, extra, 1e-12 * (1.0 + floored_energy)) << "stretch " << stretch;
-    if (stretch < 0.5) EXPECT_GT(floored_energy, soft_energy) << "stretch " << stretch;
+    if (stretch < 0.5) {
+      EXPECT_GT(floored_energy, soft_energy) << "stretch " << stretch;
+    }
   }
 }
 
