@@ -57,8 +57,8 @@ struct ImplicitEulerSettings {
   double bending_hessian_share = 0.75;
   // A step without the hinges in the matrix that has not converged after this many Newton
   // iterations goes on with them (the matrix with them is kept prepared beside): where a cloth
-  // folds over an edge or lies on another, the matrix without them stalls Newton (two_sheets).
-  // 6 iterations is the cheapest of those measured (docs/integrators.md, same section).
+  // folds over an edge or lies on another, the matrix without them stalls Newton. How the count
+  // was chosen: docs/integrators.md, same section.
   int hinges_out_of_matrix_iterations = 6;
   // Fills NewtonReport::iterations (weft --newton-log): one more pass over the vertices an
   // iteration, to count those above the tolerance.
