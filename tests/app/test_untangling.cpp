@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -100,22 +99,8 @@ TEST(Untangling, ATangleArisingMidRunIsUndoneAfterTheStepThatMadeIt) {
   // sheets crossed (untangling off: the exact check finds pairs). With untangling on, the step
   // after moves the free vertex back and every recorded frame is clean.
   TempDir dir("weft_untangling_mid_run");
-  const std::string scene = dir.file("punch.json");
-  {
-    std::string pins = "[0";
-    for (int v = 1; v < 81; ++v) pins += v == 40 ? "" : ", " + std::to_string(v);
-    std::ofstream out(scene);
-    out << R"({"gravity": [0, 0, 0], "fps": 30, "frames": 3,
-      "solver": {"integrator": "implicit_euler", "time_step": 0.004166666666666667},
-      "cloths": [
-        {"name": "sheet", "grid": {"size": [0.4, 0.4], "resolution": [9, 9]},
-         "transform": {"rotation_degrees": [-90, 0, 0]}, "membrane": {}, "pins": {"vertices": )"
-        << pins << R"(]}},
-        {"name": "punch", "grid": {"size": [0.1, 0.1], "resolution": [3, 3]},
-         "transform": {"translation": [0.013, 0.1, 0.017], "rotation_degrees": [-90, 0, 0]},
-         "membrane": {},
-         "moving_pins": [{"edges": ["bottom", "top", "left", "right"], "vertices": [4], "velocity": [0, -2, 0]}]}]})";
-  }
+  // Every vertex of the sheet is pinned but its centre, 40 (tests/data/pinned_punch.json).
+  const std::string scene = source_dir + "/tests/data/pinned_punch.json";
   double pairs_off = 0.0;
   double pairs_on = 0.0;
   for (const bool untangle : {false, true}) {
