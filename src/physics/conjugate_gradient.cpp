@@ -85,7 +85,7 @@ ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hess
     report.converged = true;
     return report;
   }
-  const bool gauss_seidel = preconditioner_ == Preconditioner::symmetric_gauss_seidel && coupling == nullptr;
+  const bool gauss_seidel = preconditioner_ == Preconditioner::symmetric_gauss_seidel;
   if (gauss_seidel) {
     if (splits_[last_split_].pattern_id() != hessian.pattern_id()) last_split_ = 1 - last_split_;
     gauss_seidel_ = &splits_[last_split_];
@@ -116,7 +116,7 @@ ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hess
     return report;
   }
   if (gauss_seidel) {
-    solve_gauss_seidel(dx, threshold, max_iterations, report);
+    solve_gauss_seidel(dx, threshold, max_iterations, coupling, report);
     report.relative_residual /= b_norm;
     return report;
   }
@@ -154,10 +154,12 @@ ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hess
 // CG's residual r^ = (D + L)^-1 (r_0 - H e) is not H's: the stopping test is on (D + L) r^, which
 // is r_0 - H e, as block Jacobi's is on its own updated residual. It costs half a product, so it
 // is computed once |r^| falls below the threshold scaled by |r^_0| / |r_0|, and when it misses,
-// that scaled threshold is tightened by the miss (and half again). On return dx holds dx + e and
+// that scaled threshold is tightened by the miss (and half again). With a coupling the system is
+// A = H + C in all of this (C t joins the second solve's right-hand side) and M is still H's split.
+// On return dx holds dx + e and
 // `report` that residual's norm (not yet divided by |b|) and whether it met `threshold`.
 void ConjugateGradientSolver::solve_gauss_seidel(Eigen::VectorXd& dx, double threshold, int max_iterations,
-                                                 ConjugateGradientReport& report) {
+                                                 const Coupling* coupling, ConjugateGradientReport& report) {
   const Eigen::Index size = dx.size();
   t_.resize(size);
   y_.setZero(size);
@@ -176,8 +178,8 @@ void ConjugateGradientSolver::solve_gauss_seidel(Eigen::VectorXd& dx, double thr
   while (report.iterations < max_iterations) {
     // q = C p and the curvature p . q (after p = z + beta p but in the first iteration).
     const double curvature = report.iterations == 0
-                                 ? gauss_seidel_->multiply_transformed(p_, t_, q_)
-                                 : gauss_seidel_->multiply_next_direction(z_, beta, p_, t_, q_);
+                                 ? gauss_seidel_->multiply_transformed(p_, t_, q_, coupling)
+                                 : gauss_seidel_->multiply_next_direction(z_, beta, p_, t_, q_, coupling);
     if (!(curvature > 0.0)) break;  // not positive definite along p (or NaN): stop with what we have
     const double alpha = rz / curvature;
     const auto [r_squared, rz_next] = step_and_precondition(alpha);

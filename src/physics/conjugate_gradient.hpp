@@ -21,8 +21,8 @@ namespace weft {
 
 // Block Jacobi: z = D^-1 r with D the 3x3 diagonal blocks; cheap, parallel, many iterations.
 // Symmetric Gauss-Seidel in multicolour order (physics/multicolor_gauss_seidel.hpp) through
-// Eisenstat's trick: about half the iterations at about the cost of one product each. With a
-// coupling term (kept out of the sparse pattern) block Jacobi is used.
+// Eisenstat's trick: about half the iterations at about the cost of one product each. A coupling
+// term (kept out of the sparse pattern) joins the product but not the preconditioner.
 enum class Preconditioner { block_jacobi, symmetric_gauss_seidel };
 
 struct ConjugateGradientReport {
@@ -61,7 +61,7 @@ class ConjugateGradientSolver {
   // r . z (each summed as dot() sums it).
   std::array<double, 2> step_and_precondition(double alpha);
   // CG for the correction to dx (r_ = b - H dx on entry) on Eisenstat's transformed system.
-  void solve_gauss_seidel(Eigen::VectorXd& dx, double threshold, int max_iterations,
+  void solve_gauss_seidel(Eigen::VectorXd& dx, double threshold, int max_iterations, const Coupling* coupling,
                           ConjugateGradientReport& report);
 
   Preconditioner preconditioner_ = Preconditioner::symmetric_gauss_seidel;

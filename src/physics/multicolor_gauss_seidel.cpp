@@ -180,25 +180,36 @@ void MulticolorGaussSeidel::solve_upper(const Eigen::VectorXd& v, Eigen::VectorX
 // second solve are finished where the first solve ends on them: one barrier fewer.
 template <class Direction>
 double MulticolorGaussSeidel::multiply_transformed(const Direction& direction, const Eigen::VectorXd& p,
-                                                   Eigen::VectorXd& t, Eigen::VectorXd& q) {
+                                                   Eigen::VectorXd& t, Eigen::VectorXd& q,
+                                                   const Coupling* coupling) {
   const int colors = num_colors();
   const int n = static_cast<int>(order_.size());
   const auto finish_lower = [&](int, int a, const Vec3& u_a) {
     q.segment<3>(3 * a) = u_a + t.segment<3>(3 * a);
   };
+  // With a coupling, p - D t gains C t, which needs the whole of t: colour 0's rows of the
+  // second solve wait for it with the others.
+  const int first_lower = coupling != nullptr ? 0 : 1;
   const auto finish_upper = [&](int k, int a, const Vec3& t_a) {
     const Vec3 remainder = p.segment<3>(3 * a) - diagonal_[k] * t_a;
     remainder_.segment<3>(3 * a) = remainder;
-    if (k < color_starts_[1]) {  // colour 0: (D + L)^-1's row is D_a^-1 alone
+    if (first_lower == 1 && k < color_starts_[1]) {  // colour 0: (D + L)^-1's row is D_a^-1 alone
       const Vec3 u_a = inverse_diagonal_[k] * remainder;
       solved_.segment<3>(3 * a) = u_a;
       finish_lower(k, a, u_a);
     }
   };
+  if (coupling != nullptr) {
+#pragma omp parallel
+    for (int c = colors - 1; c >= 0; --c) solve_color<false>(c, direction, t, finish_upper);
+    (*coupling)(t, remainder_);
+  }
 #pragma omp parallel
   {
-    for (int c = colors - 1; c >= 0; --c) solve_color<false>(c, direction, t, finish_upper);
-    for (int c = 1; c < colors; ++c) {
+    if (coupling == nullptr) {
+      for (int c = colors - 1; c >= 0; --c) solve_color<false>(c, direction, t, finish_upper);
+    }
+    for (int c = first_lower; c < colors; ++c) {
       solve_color<true>(c, entries_of(remainder_), solved_, finish_lower);
     }
     // The curvature, chunk by chunk as chunked_sum cuts and sums a dot product.
@@ -210,19 +221,19 @@ double MulticolorGaussSeidel::multiply_transformed(const Direction& direction, c
 }
 
 double MulticolorGaussSeidel::multiply_transformed(const Eigen::VectorXd& p, Eigen::VectorXd& t,
-                                                   Eigen::VectorXd& q) {
-  return multiply_transformed(entries_of(p), p, t, q);
+                                                   Eigen::VectorXd& q, const Coupling* coupling) {
+  return multiply_transformed(entries_of(p), p, t, q, coupling);
 }
 
 double MulticolorGaussSeidel::multiply_next_direction(const Eigen::VectorXd& z, double beta,
                                                       Eigen::VectorXd& p, Eigen::VectorXd& t,
-                                                      Eigen::VectorXd& q) {
+                                                      Eigen::VectorXd& q, const Coupling* coupling) {
   // Row a's entries of p are read by row a alone in the first solve, so each is updated there.
   const auto next = [&](int, int a) -> Vec3 {
     p.segment<3>(3 * a) = z.segment<3>(3 * a) + beta * p.segment<3>(3 * a);
     return p.segment<3>(3 * a);
   };
-  return multiply_transformed(next, p, t, q);
+  return multiply_transformed(next, p, t, q, coupling);
 }
 
 double MulticolorGaussSeidel::lower_product_squared_norm(const Eigen::VectorXd& x) {

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -37,15 +38,20 @@ class MulticolorGaussSeidel {
   void solve_lower(const Eigen::VectorXd& w, Eigen::VectorXd& u) const;
   // t = (D + U)^-1 v, colour by colour in reverse (t not v).
   void solve_upper(const Eigen::VectorXd& v, Eigen::VectorXd& t) const;
-  // q = C p with C = (D + L)^-1 H (D + U)^-1, as Eisenstat's trick forms it: t = (D + U)^-1 p,
-  // then q = t + (D + L)^-1 (p - D t). Also leaves t in `t` (sized by the caller, as q). Returns
-  // the curvature p . q, summed over `reduction_chunks` chunks of whole vertices in order (as
-  // CG's dot products are), in the product's own parallel region.
-  double multiply_transformed(const Eigen::VectorXd& p, Eigen::VectorXd& t, Eigen::VectorXd& q);
+  // A part C of the system matrix kept out of the split's pattern: coupling(v, y) does y += C v.
+  // The system is then A = H + C, preconditioned by H's split alone.
+  using Coupling = std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>;
+  // q = C p with C = (D + L)^-1 A (D + U)^-1, as Eisenstat's trick forms it: t = (D + U)^-1 p,
+  // then q = t + (D + L)^-1 (p - D t + C t) (the last term only with a coupling; A = H without).
+  // Also leaves t in `t` (sized by the caller, as q). Returns the curvature p . q, summed over
+  // `reduction_chunks` chunks of whole vertices in order (as CG's dot products are), in the
+  // product's own parallel region.
+  double multiply_transformed(const Eigen::VectorXd& p, Eigen::VectorXd& t, Eigen::VectorXd& q,
+                              const Coupling* coupling = nullptr);
   // CG's next direction and its product in one: p = z + beta p, row by row as the first solve
   // reaches it (no pass of its own), then q = C p, t and p . q as above.
   double multiply_next_direction(const Eigen::VectorXd& z, double beta, Eigen::VectorXd& p,
-                                 Eigen::VectorXd& t, Eigen::VectorXd& q);
+                                 Eigen::VectorXd& t, Eigen::VectorXd& q, const Coupling* coupling = nullptr);
   // y = D x.
   void multiply_diagonal(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
   // y_a = D_a x_a for the vertices a in [begin, end) (a piece of another pass over the vertices).
@@ -64,7 +70,7 @@ class MulticolorGaussSeidel {
   // The product with the first solve's right-hand side given row by row (direction(k, a) = p_a).
   template <class Direction>
   double multiply_transformed(const Direction& direction, const Eigen::VectorXd& p, Eigen::VectorXd& t,
-                              Eigen::VectorXd& q);
+                              Eigen::VectorXd& q, const Coupling* coupling);
   // out_a = D_a^-1 (rhs(k, a) - sum of the row's lower (upper) blocks times out), then
   // finish(k, a, out_a) (k the position of a); rhs is called once a row, by the thread solving it.
   template <bool lower, class Rhs, class Finish>
