@@ -156,8 +156,8 @@ ConjugateGradientReport ConjugateGradientSolver::solve(const SparseHessian& hess
 // is computed once |r^| falls below the threshold scaled by |r^_0| / |r_0|, and when it misses,
 // that scaled threshold is tightened by the miss (and half again). With a coupling the system is
 // A = H + C in all of this (C t joins the second solve's right-hand side) and M is still H's split.
-// On return dx holds dx + e and
-// `report` that residual's norm (not yet divided by |b|) and whether it met `threshold`.
+// On return dx holds dx + e and `report` that residual's norm (not yet divided by |b|) and whether
+// it met `threshold`.
 void ConjugateGradientSolver::solve_gauss_seidel(Eigen::VectorXd& dx, double threshold, int max_iterations,
                                                  const Coupling* coupling, ConjugateGradientReport& report) {
   const Eigen::Index size = dx.size();

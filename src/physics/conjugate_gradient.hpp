@@ -41,7 +41,7 @@ class ConjugateGradientSolver {
   // starts from the minimiser of the quadratic along d, dx = (b . d / d^T H d) d, instead of 0
   // (one product more). The implicit Euler step passes the drop gravity alone would cause, the
   // smoothest mode of the cloth and the one block Jacobi needs the most iterations to build.
-  using Coupling = std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>;
+  using Coupling = MulticolorGaussSeidel::Coupling;
   // Whatever the preconditioner, convergence is |b - H dx| <= tolerance |b| on the true residual.
   ConjugateGradientReport solve(const SparseHessian& hessian, const Eigen::VectorXd& b, Eigen::VectorXd& dx,
                                 double tolerance, int max_iterations, const Coupling* coupling = nullptr,
