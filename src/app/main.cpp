@@ -94,6 +94,9 @@ struct CommandLine {
   int box_depth = 0;
   int subdivision = 0;
   bool test_contacts = false;
+  bool play = false;
+  double quit_after = 0.0;
+  std::string frame_times;
   std::string window_size_text = "1280x720";
   weft::SweepOptions sweep_options;
   weft::PlotOptions plot_options;
@@ -138,6 +141,11 @@ void add_run_options(CLI::App& app, CommandLine& line) {
       ->capture_default_str();
   app.add_flag("--test-contacts", line.test_contacts,
                "Viewer: draw synthetic contacts (tests the contact display)");
+  app.add_flag("--play", line.play, "Viewer: start playing (else it opens paused; Space plays)");
+  app.add_option("--quit-after", line.quit_after, "Viewer: close the window after SECONDS of wall time")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--frame-times", line.frame_times,
+                 "Viewer: on closing, write FILE.csv with each drawn frame's time and the step it showed");
   app.add_flag("--quiet", line.headless_options.quiet, "Headless: no progress output");
   app.add_flag("--newton-log", line.headless_options.newton_log,
                "Headless: write DIR/newton.csv, one row per Newton iteration of every implicit Euler step");
@@ -220,9 +228,11 @@ int run_headless_command(const CLI::App& app, CommandLine& line) {
         "weft: --resume DIR continues the recording in DIR; leave out --out or give the same folder\n");
     return 2;
   }
-  if (!line.screenshot.empty()) {
-    std::fprintf(stderr, "weft: --screenshot needs the viewer; it cannot be combined with --headless\n");
-    return 2;
+  for (const char* option : {"--screenshot", "--record", "--play", "--quit-after", "--frame-times"}) {
+    if (app.count(option) > 0) {
+      std::fprintf(stderr, "weft: %s needs the viewer; it cannot be combined with --headless\n", option);
+      return 2;
+    }
   }
   line.headless_options.scene_given = app.count("scene") > 0;
   weft::recording_format_from_string(line.format, line.headless_options.format);
@@ -250,6 +260,9 @@ int run_viewer_command(const CLI::App& app, CommandLine& line) {
   options.box_depth = line.box_depth;
   options.subdivision = line.subdivision;
   options.test_contacts = line.test_contacts;
+  options.play = line.play;
+  options.quit_after_seconds = line.quit_after;
+  options.frame_times_path = line.frame_times;
   options.threads = line.headless_options.threads;
   parse_window_size(line.window_size_text, options.width, options.height);
   return weft::run_viewer(options);

@@ -1,6 +1,7 @@
 // The interactive viewer: a GLFW window with an OpenGL 3.3 core context, the World drawn by a
 // Renderer with its debug overlay, an orbit camera, mouse dragging of cloth vertices and the ImGui
-// panels. The simulation runs on a wall-clock budget per drawn frame, so the UI stays responsive.
+// panels. The simulation steps on a thread of its own (ui/simulation_worker.hpp); the window draws
+// the last finished step, so it stays responsive whatever a step costs.
 #include "app/viewer.hpp"
 
 #include <glad/gl.h>
@@ -16,7 +17,9 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 
+#include "app/frame_times.hpp"
 #include "app/progress.hpp"
 #include "app/world_tangles.hpp"
 #include "core/error.hpp"
@@ -29,6 +32,7 @@
 #include "render/world_view.hpp"
 #include "ui/panels.hpp"
 #include "ui/simulation_session.hpp"
+#include "ui/simulation_worker.hpp"
 #include "ui/vertex_drag.hpp"
 #include "ui/viewer_state.hpp"
 
@@ -179,8 +183,6 @@ class MouseControl {
     if (io.MouseWheel != 0.0f) camera.zoom(io.MouseWheel);
   }
 
-  // Refreshes the spring force before each step; a no-op when not dragging.
-  void apply(World& world) const { drag_.apply(world); }
   void release(World& world) { drag_.end(world); }
   const VertexDrag& drag() const { return drag_; }
 
@@ -196,12 +198,13 @@ bool key_pressed(int glfw_key) { return ImGui::IsKeyPressed(glfw_key, false); }
 bool key_down(int glfw_key) { return ImGui::IsKeyDown(glfw_key); }
 
 // Keyboard shortcuts (ignored while an ImGui field has focus).
-void handle_keys(SimulationSession& session, ViewerState& state, OrbitCamera& camera, const Viewport& viewport) {
+void handle_keys(const SimulationSession& session, ViewerState& state, OrbitCamera& camera,
+                 const Viewport& viewport) {
   const ImGuiIO& io = ImGui::GetIO();
   if (io.WantCaptureKeyboard) return;
-  if (key_pressed(GLFW_KEY_SPACE)) session.playing = !session.playing;
-  if (key_pressed(GLFW_KEY_N)) session.advance_step();
-  if (key_pressed(GLFW_KEY_R) && session.reset()) state.history.clear();
+  if (key_pressed(GLFW_KEY_SPACE)) state.requests.toggle_play = true;
+  if (key_pressed(GLFW_KEY_N)) state.requests.step = true;
+  if (key_pressed(GLFW_KEY_R)) state.requests.reset = true;
   if (key_pressed(GLFW_KEY_F)) camera.frame(world_bounds(session.world()), viewport.aspect());
   if (key_pressed(GLFW_KEY_W)) state.view.wireframe = !state.view.wireframe;
   if (key_pressed(GLFW_KEY_B)) state.view.boxes = !state.view.boxes;
@@ -395,21 +398,23 @@ class TangleMarks {
 };
 
 // Runs the window until it is closed, or draws one screenshot. Returns the exit code.
-// The viewer's window loop: each drawn frame polls input, draws the panels, advances the
-// simulation on its wall-clock budget, follows the world into the renderer, draws, and saves the
-// pictures asked for. One phase per member function; the locals of a frame live here.
+// The viewer's window loop: each drawn frame polls input, draws the panels, sends their requests
+// and settings to the simulation worker and takes in its last finished step, follows the shown
+// world into the renderer, draws, and saves the pictures asked for. One phase per member
+// function; the locals of a frame live here.
 class ViewerLoop {
  public:
-  ViewerLoop(GLFWwindow* window, SimulationSession& session, const ViewerOptions& options,
+  ViewerLoop(GLFWwindow* window, SimulationWorker& worker, const ViewerOptions& options,
              const std::string& shader_dir, bool starts_tangled)
       : window_(window),
-        session_(session),
+        worker_(worker),
         options_(options),
         imgui_(window),
         renderer_(shader_dir),
         screenshot_(!options.screenshot_path.empty()),
         record_dir_(options.record_dir.empty() ? "weft_record" : options.record_dir),
         record_progress_(0, true, {"recording into " + record_dir_ + " (pictures)", 2.0, 5.0}) {
+    const SimulationSession& session = worker.shown();
     state_.view = view_options_from(options, session.scene().view);
     if (starts_tangled && !tangles_switched_off(options, session.scene().view)) state_.view.tangles = true;
     state_.panels_in_pictures = panels_in_pictures(options, session.scene().view);
@@ -417,15 +422,14 @@ class ViewerLoop {
     if (state_.scene_files.empty()) state_.scene_files.push_back(session.scene_path());
     meshes_ = show_world(renderer_, session.world(), state_.view);
     shown_generation_ = session.generation();
-    session.before_step = [this](World& world) { mouse_.apply(world); };
     read_viewport();
     place_camera(camera_, session.scene().view, session.world(), viewport_.aspect());
     shown_scene_ = session.scene_path();
     // ImGui lays its windows out over a few frames: a picture with panels is taken on the third.
     screenshot_frames_left_ = state_.panels_in_pictures ? 3 : 1;
     state_.record_frames = !options.record_dir.empty();
+    if (options.play && !screenshot_) state_.requests.toggle_play = true;
   }
-  ~ViewerLoop() { session_.before_step = nullptr; }
   ViewerLoop(const ViewerLoop&) = delete;
   ViewerLoop& operator=(const ViewerLoop&) = delete;
 
@@ -434,21 +438,26 @@ class ViewerLoop {
   int run() {
     if (screenshot_) simulate_screenshot_frames();
     using Clock = std::chrono::steady_clock;
-    Clock::time_point last_time = Clock::now();
+    const Clock::time_point opened = Clock::now();
+    Clock::time_point last_time = opened;
     while (screenshot_ || !glfwWindowShouldClose(window_)) {
+      const Clock::time_point now = Clock::now();
+      const double interval = std::chrono::duration<double>(now - last_time).count();
+      const double wall_seconds = std::min(interval, 0.25);
+      last_time = now;
+      const double open_seconds = std::chrono::duration<double>(now - opened).count();
+      if (options_.quit_after_seconds > 0.0 && open_seconds >= options_.quit_after_seconds) break;
       glfwPollEvents();
       read_viewport();
-      const Clock::time_point now = Clock::now();
-      const double wall_seconds = std::min(std::chrono::duration<double>(now - last_time).count(), 0.25);
-      last_time = now;
 
       imgui_.begin_frame();
       if (!screenshot_) {
-        mouse_.update(camera_, session_, state_, viewport_, meshes_.cloth_bvhs);
-        handle_keys(session_, state_, camera_, viewport_);
+        mouse_.update(camera_, shown(), state_, viewport_, meshes_.cloth_bvhs);
+        handle_keys(shown(), state_, camera_, viewport_);
       }
       draw_panels();
-      advance_simulation(wall_seconds);
+      send_requests();
+      take_in_simulation(wall_seconds);
       follow_world();
       build_frame_overlay();
       renderer_.draw(camera_, viewport_.framebuffer_width, viewport_.framebuffer_height, overlay_,
@@ -463,10 +472,19 @@ class ViewerLoop {
       const bool take_screenshot = screenshot_ && --screenshot_frames_left_ == 0;
       if (!save_pictures(take_screenshot)) return 4;
       if (!state_.panels_in_pictures) imgui_.end_frame();
+      if (!options_.frame_times_path.empty()) log_frame_time(open_seconds, now, interval);
       glfwSwapBuffers(window_);
       if (take_screenshot) break;
     }
     if (recorded_ > 0) record_progress_.finish(recorded_);
+    if (!options_.frame_times_path.empty()) {
+      try {
+        frame_times_.write(options_.frame_times_path);
+      } catch (const IoError& error) {
+        std::fprintf(stderr, "weft: %s\n", error.what());
+        return 4;
+      }
+    }
     return 0;
   }
 
@@ -476,31 +494,43 @@ class ViewerLoop {
     glfwGetWindowSize(window_, &viewport_.window_width, &viewport_.window_height);
   }
 
+  SimulationSession& shown() { return worker_.shown(); }
+
+  void log_frame_time(double open_seconds, std::chrono::steady_clock::time_point frame_start,
+                      double interval) {
+    FrameTime frame;
+    frame.start_s = open_seconds;
+    frame.work_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_start).count();
+    frame.interval_ms = 1e3 * interval;
+    frame.shown_step = shown().frame() * shown().schedule().steps_per_frame + shown().step_in_frame();
+    frame.step_ms = shown().world().last_step_stats().total_ms;
+    frame.simulated_s = shown().world().time();
+    frame_times_.add(frame);
+  }
+
   // Screenshot: a fixed number of frames, independent of wall time, before the one picture;
   // progress lines once it takes longer than a moment.
   void simulate_screenshot_frames() {
     ProgressReporter progress(options_.frames, true, {"screenshot " + options_.screenshot_path, 2.0, 1.0});
-    session_.before_step = [this, &progress](World& world) {
-      mouse_.apply(world);
-      progress.update(session_.frame(), session_.step_in_frame(), session_.schedule().steps_per_frame);
-    };
     for (int frame = 0; frame < options_.frames; ++frame) {
-      session_.advance_frame();
-      state_.history.record(session_.world());
-      progress.update(session_.frame());
+      worker_.submit([](SimulationSession& session) { session.advance_frame(); });
+      worker_.wait_for_commands();
+      worker_.exchange(mouse_.drag(), state_.speed);
+      state_.history.record(shown().world());
+      progress.update(shown().frame());
     }
-    progress.finish(session_.frame());
-    session_.before_step = [this](World& world) { mouse_.apply(world); };
+    progress.finish(shown().frame());
   }
 
   void draw_panels() {
-    draw_simulation_panel(session_, state_);
-    draw_solver_panel(session_);
-    draw_material_panel(session_);
-    draw_debug_panel(session_, state_);
+    draw_simulation_panel(shown(), state_);
+    draw_solver_panel(shown());
+    draw_material_panel(shown());
+    draw_debug_panel(shown(), state_);
     draw_plots_panel(state_);
-    draw_status_line(session_, state_);
-    draw_hover_tooltip(session_, state_, mouse_.drag().active());
+    draw_status_line(shown(), state_);
+    draw_hover_tooltip(shown(), state_, mouse_.drag().active());
     if (first_frame_) {
       // Panels asked for on the command line: expanded and in front from the next frame on.
       for (const std::string& name : options_.open_panels) {
@@ -511,18 +541,47 @@ class ViewerLoop {
     }
   }
 
-  void advance_simulation(double wall_seconds) {
-    // Simulation on a wall-clock budget, so a heavy scene slows down instead of freezing the UI.
-    if (session_.playing && !screenshot_) {
-      const double time_before = session_.world().time();
-      if (session_.play(wall_seconds, state_.speed, state_.step_budget_ms) > 0)
-        state_.history.record(session_.world());
-      const double factor = wall_seconds > 0.0 ? (session_.world().time() - time_before) / wall_seconds : 0.0;
-      state_.real_time_factor += 0.1 * (factor - state_.real_time_factor);
-    } else {
-      state_.real_time_factor = 0.0;
+  // The panels' and keys' requests, sent to the worker as commands. Play and pause show at once.
+  void send_requests() {
+    SessionRequests& requests = state_.requests;
+    if (requests.toggle_play) {
+      shown().playing = !shown().playing;
+      worker_.submit([playing = shown().playing](SimulationSession& session) { session.playing = playing; });
     }
-    if (wall_seconds > 0.0) state_.frames_per_second += 0.1 * (1.0 / wall_seconds - state_.frames_per_second);
+    if (requests.step) worker_.submit([](SimulationSession& session) { session.advance_step(); });
+    if (requests.frame) worker_.submit([](SimulationSession& session) { session.advance_frame(); });
+    if (requests.reset) worker_.submit([](SimulationSession& session) { session.reset(); });
+    if (!requests.load.empty())
+      worker_.submit([file = requests.load](SimulationSession& session) { session.load(file); });
+    if (requests.clear_error) {
+      shown().clear_error();
+      worker_.submit([](SimulationSession& session) { session.clear_error(); });
+    }
+    requests = {};
+  }
+
+  // The panels' settings and the drag go to the worker; the last finished step comes back.
+  void take_in_simulation(double wall_seconds) {
+    count_frame(wall_seconds);
+    const int generation = shown().generation();
+    const double time_before = shown().world().time();
+    if (!screenshot_ && worker_.exchange(mouse_.drag(), state_.speed) && shown().generation() == generation &&
+        shown().world().time() != time_before) {
+      state_.history.record(shown().world());
+    }
+    state_.real_time_factor = worker_.rates().real_time_factor;
+    state_.steps_per_second = worker_.rates().steps_per_second;
+  }
+
+  // The window's frames per second, counted over half a second.
+  void count_frame(double wall_seconds) {
+    ++fps_frames_;
+    fps_seconds_ += wall_seconds;
+    if (fps_seconds_ >= 0.5) {
+      state_.frames_per_second = fps_frames_ / fps_seconds_;
+      fps_frames_ = 0;
+      fps_seconds_ = 0.0;
+    }
   }
 
   // The renderer follows the world: shaders reloaded when asked, the meshes registered again after
@@ -533,38 +592,41 @@ class ViewerLoop {
       state_.shader_message = renderer_.reload_shaders();
     }
     // Views follow the world: re-register after a reload or a new subdivision level, else push positions.
-    if (session_.generation() != shown_generation_ ||
+    if (shown().generation() != shown_generation_ ||
         state_.view.subdivision_levels != meshes_.subdivision_levels) {
-      if (session_.generation() != shown_generation_) mouse_.release(session_.world());
-      if (session_.scene_path() != shown_scene_) {
-        // Another scene opens as its file says; a reset of the same one keeps the camera and switches.
-        shown_scene_ = session_.scene_path();
-        state_.view = view_options_from(options_, session_.scene().view);
-        place_camera(camera_, session_.scene().view, session_.world(), viewport_.aspect());
+      if (shown().generation() != shown_generation_) {
+        mouse_.release(shown().world());
+        state_.history.clear();
       }
-      if (session_.generation() != shown_generation_ && say_start_tangles(session_) &&
-          !tangles_switched_off(options_, session_.scene().view)) {
+      if (shown().scene_path() != shown_scene_) {
+        // Another scene opens as its file says; a reset of the same one keeps the camera and switches.
+        shown_scene_ = shown().scene_path();
+        state_.view = view_options_from(options_, shown().scene().view);
+        place_camera(camera_, shown().scene().view, shown().world(), viewport_.aspect());
+      }
+      if (shown().generation() != shown_generation_ && say_start_tangles(shown()) &&
+          !tangles_switched_off(options_, shown().scene().view)) {
         state_.view.tangles = true;
       }
-      meshes_ = show_world(renderer_, session_.world(), state_.view);
-      shown_generation_ = session_.generation();
+      meshes_ = show_world(renderer_, shown().world(), state_.view);
+      shown_generation_ = shown().generation();
     } else {
-      update_world(renderer_, meshes_, session_.world(), state_.view);
+      update_world(renderer_, meshes_, shown().world(), state_.view);
     }
   }
 
   // What the 3D view draws over the cloth: boxes, contacts, tangles, the dragged vertex.
   void build_frame_overlay() {
-    update_bvhs(meshes_, session_.world());  // drawn with --show boxes, and used for picking
+    update_bvhs(meshes_, shown().world());  // drawn with --show boxes, and used for picking
     if (options_.test_contacts) {
-      build_overlay(overlay_, session_.world(), meshes_, state_.view, synthetic_contacts(session_.world()));
+      build_overlay(overlay_, shown().world(), meshes_, state_.view, synthetic_contacts(shown().world()));
     } else {
-      build_overlay(overlay_, session_.world(), meshes_, state_.view, session_.world().contacts());
+      build_overlay(overlay_, shown().world(), meshes_, state_.view, shown().world().contacts());
     }
     if (state_.view.tangles)
-      tangle_marks_.add_to(overlay_, session_.world(), session_.generation(), mouse_.drag().active());
+      tangle_marks_.add_to(overlay_, shown().world(), shown().generation(), mouse_.drag().active());
     if (mouse_.drag().active()) {
-      const Cloth& cloth = session_.world().cloths()[static_cast<size_t>(mouse_.drag().cloth())];
+      const Cloth& cloth = shown().world().cloths()[static_cast<size_t>(mouse_.drag().cloth())];
       overlay_.add_line(cloth.state.x.col(mouse_.drag().vertex()), mouse_.drag().target(),
                         Color(1.0f, 1.0f, 1.0f));
       overlay_.points.push_back({mouse_.drag().target(), Color(1.0f, 1.0f, 1.0f), 6.0f});
@@ -603,7 +665,7 @@ class ViewerLoop {
   }
 
   GLFWwindow* window_;
-  SimulationSession& session_;
+  SimulationWorker& worker_;
   const ViewerOptions& options_;
   ImGuiLayer imgui_;
   Renderer renderer_;
@@ -622,11 +684,15 @@ class ViewerLoop {
   const std::string record_dir_;
   int recorded_ = 0;
   ProgressReporter record_progress_;  // pictures saved so far, every few seconds while recording
+  FrameTimeLog frame_times_;          // --frame-times
+  int fps_frames_ = 0;                // count_frame's window
+  double fps_seconds_ = 0.0;
 };
 
-int run_window(GLFWwindow* window, SimulationSession& session, const ViewerOptions& options,
+int run_window(GLFWwindow* window, SimulationSession session, const ViewerOptions& options,
                const std::string& shader_dir, bool starts_tangled) {
-  ViewerLoop loop(window, session, options, shader_dir, starts_tangled);
+  SimulationWorker worker(std::move(session));
+  ViewerLoop loop(window, worker, options, shader_dir, starts_tangled);
   return loop.run();
 }
 
@@ -679,7 +745,7 @@ int run_viewer(const ViewerOptions& options) {
   }
 
   try {
-    return run_window(window.get(), *session, options, shader_dir, starts_tangled);
+    return run_window(window.get(), std::move(*session), options, shader_dir, starts_tangled);
   } catch (const RenderError& error) {
     std::fprintf(stderr, "weft: %s\n", error.what());
     return 1;

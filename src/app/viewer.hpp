@@ -17,6 +17,9 @@ struct ViewerOptions {
   int box_depth = 0;                   // bounding-box depth with "boxes"
   int subdivision = 0;                 // Loop subdivision levels of the displayed cloth (0 to 2)
   bool test_contacts = false;          // draw synthetic contacts (tests the contact display path)
+  bool play = false;                   // start playing
+  double quit_after_seconds = 0.0;     // > 0: close after this much wall time
+  std::string frame_times_path;        // if set: each drawn frame's times, written on closing
   int width = 1280, height = 720;
   int threads = 1;  // solver threads (--threads; 0: all cores)
 };

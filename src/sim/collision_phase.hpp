@@ -202,6 +202,8 @@ class CollisionPhase {
   }
   // Contacts acted on in the current step (positions at the start of the step).
   const std::vector<ContactRecord>& records() const { return records_; }
+  // A view's copy of another phase's contacts (World::show_state_of).
+  void show_records(const std::vector<ContactRecord>& records) { records_ = records; }
 
   int num_cloths() const { return num_cloths_; }
 

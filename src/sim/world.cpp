@@ -47,6 +47,19 @@ std::vector<Cloth>& World::cloths() {
   return cloths_;
 }
 
+void World::show_state_of(const World& other) {
+  if (other.cloths_.size() != cloths_.size()) throw std::logic_error("World::show_state_of: other cloths");
+  for (size_t c = 0; c < cloths_.size(); ++c) {
+    if (other.cloths_[c].num_vertices() != cloths_[c].num_vertices())
+      throw std::logic_error("World::show_state_of: another cloth size");
+    cloths_[c].state.x = other.cloths_[c].state.x;
+    cloths_[c].state.v = other.cloths_[c].state.v;
+  }
+  time_ = other.time_;
+  stats_ = other.stats_;
+  collisions_.show_records(other.collisions_.records());
+}
+
 Positions World::collider_positions(int collider) const {
   const Positions& rest = collider_surfaces_[collider].positions;
   Positions positions(3, rest.cols());

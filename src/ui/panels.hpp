@@ -5,8 +5,9 @@
 
 namespace weft {
 
-// Play, pause, step, reset, speed, the scene picker and any error.
-void draw_simulation_panel(SimulationSession& session, ViewerState& state);
+// Play, pause, step, reset, speed, the scene picker and any error; what they ask for goes into
+// state.requests.
+void draw_simulation_panel(const SimulationSession& session, ViewerState& state);
 // Integrator, time step, sub-steps, Newton and adaptive-stepping settings, applied live.
 void draw_solver_panel(SimulationSession& session);
 // Springs, damping, density, thickness, friction, applied live.
@@ -15,7 +16,8 @@ void draw_material_panel(SimulationSession& session);
 void draw_debug_panel(SimulationSession& session, ViewerState& state);
 // Energies, time per phase and Newton iterations over the last frames.
 void draw_plots_panel(const ViewerState& state);
-// One line at the bottom: sizes, contacts, ms per step by phase, frames per second, real-time factor.
+// One line at the bottom: sizes, contacts, ms per step by phase, the window's frames per second,
+// the simulation's steps per second and real-time factor.
 void draw_status_line(const SimulationSession& session, const ViewerState& state);
 
 }  // namespace weft

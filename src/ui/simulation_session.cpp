@@ -37,6 +37,32 @@ SimulationSession::SimulationSession(std::string scene_path, std::vector<std::st
   set_max_time_step(scene_.time_step);
 }
 
+SimulationSession SimulationSession::mirror() const {
+  SimulationSession copy;
+  copy.scene_path_ = scene_path_;
+  copy.overrides_ = overrides_;
+  copy.scene_ = scene_;
+  copy.world_.settings = world_.settings;
+  for (size_t c = 0; c < world_.cloths().size(); ++c)
+    copy.world_.add_cloth(world_.cloths()[c], world_.contact_material(static_cast<int>(c)));
+  for (const Collider& collider : world_.colliders()) copy.world_.add_collider(collider);
+  copy.max_time_step_ = max_time_step_;
+  copy.schedule_ = schedule_;
+  copy.playing = playing;
+  copy.pause_on_contact = pause_on_contact;
+  copy.generation_ = generation_;
+  copy.threads_ = threads_;
+  copy.show_state_of(*this);
+  return copy;
+}
+
+void SimulationSession::show_state_of(const SimulationSession& live) {
+  world_.show_state_of(live.world_);
+  frame_ = live.frame_;
+  step_in_frame_ = live.step_in_frame_;
+  error_ = live.error_;
+}
+
 bool SimulationSession::replace_world(const std::string& scene_path, const std::vector<std::string>& overrides,
                                       const char* action) {
   try {

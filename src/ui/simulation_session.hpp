@@ -1,7 +1,7 @@
 #pragma once
 // What the viewer's controls act on: a scene file, the World built from it, play/pause, the
-// largest time step and real-time playback on a wall-clock budget. No OpenGL and no ImGui, so it
-// runs anywhere.
+// largest time step and real-time playback (ui/simulation_worker.hpp steps it on its own
+// thread). No OpenGL and no ImGui, so it runs anywhere.
 #include <functional>
 #include <string>
 #include <vector>
@@ -15,6 +15,13 @@ class SimulationSession {
  public:
   // Loads and builds the scene; throws SceneError or IoError.
   SimulationSession(std::string scene_path, std::vector<std::string> overrides);
+
+  // A copy to draw from: the same scene, settings, cloths and colliders, and this session's shown
+  // state (show_state_of). It is not meant to be stepped; its settings are for panels to edit.
+  SimulationSession mirror() const;
+  // Takes in what `live` (this mirror's origin, same generation) shows: its world's state
+  // (World::show_state_of), frame, step within it and error.
+  void show_state_of(const SimulationSession& live);
 
   // Reloads the scene file and rebuilds the world. On failure keeps the current world, keeps the
   // message in error(), and returns false.
@@ -62,6 +69,7 @@ class SimulationSession {
   int generation() const { return generation_; }
 
  private:
+  SimulationSession() = default;
   bool replace_world(const std::string& scene_path, const std::vector<std::string>& overrides,
                      const char* action);
 

@@ -29,9 +29,10 @@ void draw_status_line(const SimulationSession& session, const ViewerState& state
     }
     ImGui::Text(
         "%d vertices, %d triangles | %d contacts | step %.2f ms (prepare %.2f, integrate %.2f, "
-        "collisions %.2f) | %d threads | %.0f fps | %.2fx real time",
+        "collisions %.2f) | %d threads | window %.0f fps | %.1f steps/s, %.2fx real time",
         vertices, triangles, stats.contacts, stats.total_ms, stats.prepare_collisions_ms, stats.integrate_ms,
-        stats.collisions_ms, session.threads(), state.frames_per_second, state.real_time_factor);
+        stats.collisions_ms, session.threads(), state.frames_per_second, state.steps_per_second,
+        state.real_time_factor);
     if (stats.unconverged_steps > 0) {  // the last step's implicit solve stopped short of its tolerance
       ImGui::SameLine();
       ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.2f, 1.0f), "| Newton unconverged (residual %.2g m/s)",

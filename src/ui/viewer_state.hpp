@@ -15,14 +15,24 @@ struct HoverInfo {
   int vertex = -1;
 };
 
+// What the panels and keys ask of the simulation this frame; the viewer sends them to the worker.
+struct SessionRequests {
+  bool toggle_play = false;
+  bool step = false;   // one time step
+  bool frame = false;  // to the end of the frame
+  bool reset = false;  // reload the scene file
+  bool clear_error = false;
+  std::string load;  // another scene file, if not empty
+};
+
 struct ViewerState {
   ViewOptions view;
-  double speed = 1.0;              // simulated seconds per wall second while playing
-  double step_budget_ms = 30.0;    // wall time the simulation may take per drawn frame
+  double speed = 1.0;                    // simulated seconds per wall second while playing
   std::vector<std::string> scene_files;  // the scene picker's list
   std::string shader_message;      // the last shader reload's error, empty if it worked
 
   // Requests from the panels, handled by the viewer loop.
+  SessionRequests requests;
   bool reload_shaders = false;
   bool save_screenshot = false;
   bool record_frames = false;      // save every drawn frame as a PNG
@@ -31,7 +41,8 @@ struct ViewerState {
   // Measurements of the current frame, for the status line.
   StatsHistory history;
   double frames_per_second = 0.0;
-  double real_time_factor = 0.0;   // simulated seconds per wall second, smoothed
+  double real_time_factor = 0.0;  // simulated seconds per wall second (the worker's)
+  double steps_per_second = 0.0;  // the worker's steps per wall second
   HoverInfo hover;
   std::string last_saved;          // the last screenshot written
 };

@@ -233,6 +233,23 @@ TEST(HeadlessRunner, TheNewtonLogHoldsEveryIterationAndAgreesWithTheStats) {
   EXPECT_NE(viewer.error_text.find("--newton-log needs --headless"), std::string::npos) << viewer.error_text;
 }
 
+TEST(HeadlessRunner, RefusesTheViewersOptions) {
+  TempDir dir("weft_headless_viewer_options");
+  const std::vector<std::vector<std::string>> options = {{"--play"},
+                                                         {"--quit-after", "2"},
+                                                         {"--frame-times", (dir.path() / "t.csv").string()},
+                                                         {"--screenshot", (dir.path() / "s.png").string()}};
+  for (const std::vector<std::string>& option : options) {
+    std::vector<std::string> command = {weft_program, "--headless", source_dir + "/scenes/drape_sphere.json",
+                                        "--quiet",    "--out",      (dir.path() / "out").string()};
+    command.insert(command.end(), option.begin(), option.end());
+    const auto run = run_program(command, dir.file("run.txt"));
+    EXPECT_EQ(run.exit_code, 2) << option[0];
+    EXPECT_NE(run.error_text.find(option[0] + " needs the viewer"), std::string::npos) << run.error_text;
+    EXPECT_FALSE(fs::exists(dir.path() / "out")) << option[0] << ": nothing is recorded";
+  }
+}
+
 TEST(HeadlessRunner, TheThreadsColumnShowsTheThreadsTheStepsRanOn) {
   // Frame 0 ran no step (0); with the governor off every step runs on the requested count.
   TempDir dir("weft_headless_threads");
