@@ -104,6 +104,9 @@ struct CommandLine {
   CLI::App* sweep = nullptr;
   CLI::App* plot = nullptr;
   CLI::App* check = nullptr;
+  CLI::App* view = nullptr;
+  std::string view_dir;
+  int view_frame = 0;
 };
 
 // The options of the program itself (the viewer and --headless).
@@ -180,7 +183,7 @@ void add_run_options(CLI::App& app, CommandLine& line) {
   app.add_flag("--version", line.version, "Print the version and exit");
 }
 
-// The subcommands: sweep, plot and check.
+// The subcommands: sweep, plot, check and view.
 void add_subcommands(CLI::App& app, CommandLine& line) {
   line.sweep =
       app.add_subcommand("sweep", "Run a grid of scene overrides locally, or write a SLURM array job");
@@ -212,6 +215,17 @@ void add_subcommands(CLI::App& app, CommandLine& line) {
       "colliders; exit 0 all clean, 1 some frame tangled, 2 bad input");
   line.check->add_option("dir", line.check_options.dir, "Recording folder (weft --headless SCENE --out DIR)")
       ->required();
+
+  line.view = app.add_subcommand(
+      "view",
+      "Open a headless recording in the viewer: scrub and play its frames, its stats.csv plotted, the "
+      "strain map and the exact intersection check of the shown frame (the viewer's options apply)");
+  line.view->add_option("dir", line.view_dir, "Recording folder (weft --headless SCENE --out DIR)")
+      ->required();
+  line.view
+      ->add_option("--frame", line.view_frame, "The frame shown first (with --screenshot: the one drawn)")
+      ->check(whole_number("frame", 0, weft::max_frames, ">= 0"));
+  line.view->fallthrough();  // --screenshot, --show, --size, --play... are the viewer's own
 }
 
 // weft --headless: the option combinations it refuses, then the run.
@@ -251,6 +265,16 @@ int run_viewer_command(const CLI::App& app, CommandLine& line) {
 #ifdef WEFT_HAS_VIEWER
   weft::ViewerOptions options;
   options.scene_path = line.headless_options.scene_path;
+  if (line.view->parsed()) {
+    for (const char* option : {"--set", "--frames", "scene"}) {
+      if (app.count(option) > 0) {
+        std::fprintf(stderr, "weft view: %s does not apply: a recording is shown as it was run\n", option);
+        return 2;
+      }
+    }
+    options.recording_dir = line.view_dir;
+    options.recording_frame = line.view_frame;
+  }
   options.overrides = line.headless_options.overrides;
   options.screenshot_path = line.screenshot;
   options.frames = line.headless_options.frames < 0 ? 0 : line.headless_options.frames;
@@ -304,6 +328,10 @@ int run(int argc, char** argv) {
   if (line.sweep->parsed()) return weft::run_sweep(line.sweep_options);
   if (line.plot->parsed()) return weft::run_plot(line.plot_options);
   if (line.check->parsed()) return weft::run_check(line.check_options);
+  if (line.view->parsed() && line.headless) {
+    std::fprintf(stderr, "weft view: --headless does not apply: view opens a window on a recording\n");
+    return 2;
+  }
   if (line.headless) return run_headless_command(app, line);
   return run_viewer_command(app, line);
 }

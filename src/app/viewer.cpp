@@ -24,6 +24,7 @@
 #include "app/world_tangles.hpp"
 #include "core/error.hpp"
 #include "io/install_paths.hpp"
+#include "io/recording_reader.hpp"
 #include "render/orbit_camera.hpp"
 #include "render/picking.hpp"
 #include "render/render_error.hpp"
@@ -31,6 +32,7 @@
 #include "render/screenshot.hpp"
 #include "render/world_view.hpp"
 #include "ui/panels.hpp"
+#include "ui/recording_player.hpp"
 #include "ui/simulation_session.hpp"
 #include "ui/simulation_worker.hpp"
 #include "ui/vertex_drag.hpp"
@@ -364,7 +366,9 @@ bool say_start_tangles(const SimulationSession& session) {
 // triangles.
 class TangleMarks {
  public:
-  void add_to(DebugOverlay& overlay, const World& world, int generation, bool dragging) {
+  // `pairs`: set to one line per intersecting pair.
+  void add_to(DebugOverlay& overlay, const World& world, int generation, bool dragging,
+              std::vector<std::string>& pairs) {
     if (generation != checked_generation_ || world.time() != checked_time_ || dragging) {
       if (generation != checked_generation_)
         tangles_ = WorldTangles();  // a new start decides what holds what
@@ -378,7 +382,10 @@ class TangleMarks {
       return index < num_cloths ? input.cloths[index] : input.colliders[index - num_cloths];
     };
     const Color magenta(1.0f, 0.1f, 0.9f);
+    pairs.clear();
     for (const TriangleIntersection& pair : report_.pairs) {
+      pairs.push_back(surface(pair.mesh_a).name + " triangle " + std::to_string(pair.triangle_a) + " x " +
+                      surface(pair.mesh_b).name + " triangle " + std::to_string(pair.triangle_b));
       for (const auto& [mesh, triangle] :
            {std::pair(pair.mesh_a, pair.triangle_a), std::pair(pair.mesh_b, pair.triangle_b)}) {
         const NamedSurface& s = surface(mesh);
@@ -404,10 +411,12 @@ class TangleMarks {
 // function; the locals of a frame live here.
 class ViewerLoop {
  public:
-  ViewerLoop(GLFWwindow* window, SimulationWorker& worker, const ViewerOptions& options,
-             const std::string& shader_dir, bool starts_tangled)
+  // `player`: a recording to show instead of the worker's steps (`weft view`), else null.
+  ViewerLoop(GLFWwindow* window, SimulationWorker& worker, RecordingPlayer* player,
+             const ViewerOptions& options, const std::string& shader_dir, bool starts_tangled)
       : window_(window),
         worker_(worker),
+        player_(player),
         options_(options),
         imgui_(window),
         renderer_(shader_dir),
@@ -429,6 +438,7 @@ class ViewerLoop {
     screenshot_frames_left_ = state_.panels_in_pictures ? 3 : 1;
     state_.record_frames = !options.record_dir.empty();
     if (options.play && !screenshot_) state_.requests.toggle_play = true;
+    if (player_ != nullptr) state_.requests.show_frame = options.recording_frame;
   }
   ViewerLoop(const ViewerLoop&) = delete;
   ViewerLoop& operator=(const ViewerLoop&) = delete;
@@ -436,7 +446,13 @@ class ViewerLoop {
   // Returns the program's exit code: 0, 4 (a picture could not be saved) or 5 (an OpenGL error
   // in a screenshot run).
   int run() {
-    if (screenshot_) simulate_screenshot_frames();
+    if (player_ != nullptr) {
+      // The frame asked for, before the first picture (the camera was placed at frame 0).
+      if (!show_recorded(options_.recording_frame) && screenshot_) return 2;
+      state_.requests.show_frame = -1;
+    } else if (screenshot_) {
+      simulate_screenshot_frames();
+    }
     using Clock = std::chrono::steady_clock;
     const Clock::time_point opened = Clock::now();
     Clock::time_point last_time = opened;
@@ -524,12 +540,18 @@ class ViewerLoop {
   }
 
   void draw_panels() {
-    draw_simulation_panel(shown(), state_);
-    draw_solver_panel(shown());
-    draw_material_panel(shown());
-    draw_debug_panel(shown(), state_);
-    draw_plots_panel(state_);
-    draw_status_line(shown(), state_);
+    if (player_ != nullptr) {
+      // A recording: its timeline and plots; no solver, material or live plots to edit.
+      draw_recording_panel(*player_, state_);
+      draw_debug_panel(shown(), state_);
+    } else {
+      draw_simulation_panel(shown(), state_);
+      draw_solver_panel(shown());
+      draw_material_panel(shown());
+      draw_debug_panel(shown(), state_);
+      draw_plots_panel(state_);
+      draw_status_line(shown(), state_);
+    }
     draw_hover_tooltip(shown(), state_, mouse_.drag().active());
     if (first_frame_) {
       // Panels asked for on the command line: expanded and in front from the next frame on.
@@ -542,7 +564,34 @@ class ViewerLoop {
   }
 
   // The panels' and keys' requests, sent to the worker as commands. Play and pause show at once.
+  // A recorded frame into the shown world; an unreadable frame file is said and playback stops.
+  bool show_recorded(int frame) {
+    try {
+      player_->show(shown(), frame);
+      return true;
+    } catch (const IoError& error) {
+      std::fprintf(stderr, "weft view: %s\n", error.what());
+      player_->playing = false;
+      return false;
+    }
+  }
+
+  // In a recording the requests move through its frames: play, one frame on, back to frame 0.
+  void send_recording_requests() {
+    SessionRequests& requests = state_.requests;
+    const int last = player_->frames() - 1;
+    if (requests.toggle_play) {
+      if (!player_->playing && player_->frame() == last) show_recorded(0);
+      player_->playing = !player_->playing;
+    }
+    if (requests.step || requests.frame) requests.show_frame = std::min(player_->frame() + 1, last);
+    if (requests.reset) requests.show_frame = 0;
+    if (requests.show_frame >= 0) show_recorded(requests.show_frame);
+    requests = {};
+  }
+
   void send_requests() {
+    if (player_ != nullptr) return send_recording_requests();
     SessionRequests& requests = state_.requests;
     if (requests.toggle_play) {
       shown().playing = !shown().playing;
@@ -563,6 +612,10 @@ class ViewerLoop {
   // The panels' settings and the drag go to the worker; the last finished step comes back.
   void take_in_simulation(double wall_seconds) {
     count_frame(wall_seconds);
+    if (player_ != nullptr) {
+      if (!screenshot_ && player_->advance(wall_seconds, state_.speed)) show_recorded(player_->frame());
+      return;
+    }
     const int generation = shown().generation();
     const double time_before = shown().world().time();
     if (!screenshot_ && worker_.exchange(mouse_.drag(), state_.speed) && shown().generation() == generation &&
@@ -624,7 +677,8 @@ class ViewerLoop {
       build_overlay(overlay_, shown().world(), meshes_, state_.view, shown().world().contacts());
     }
     if (state_.view.tangles)
-      tangle_marks_.add_to(overlay_, shown().world(), shown().generation(), mouse_.drag().active());
+      tangle_marks_.add_to(overlay_, shown().world(), shown().generation(), mouse_.drag().active(),
+                           state_.tangle_pairs);
     if (mouse_.drag().active()) {
       const Cloth& cloth = shown().world().cloths()[static_cast<size_t>(mouse_.drag().cloth())];
       overlay_.add_line(cloth.state.x.col(mouse_.drag().vertex()), mouse_.drag().target(),
@@ -666,6 +720,7 @@ class ViewerLoop {
 
   GLFWwindow* window_;
   SimulationWorker& worker_;
+  RecordingPlayer* player_;
   const ViewerOptions& options_;
   ImGuiLayer imgui_;
   Renderer renderer_;
@@ -689,25 +744,50 @@ class ViewerLoop {
   double fps_seconds_ = 0.0;
 };
 
-int run_window(GLFWwindow* window, SimulationSession session, const ViewerOptions& options,
-               const std::string& shader_dir, bool starts_tangled) {
+// `weft view DIR`: the recording, a session built from its run.json's scene, checked to match.
+void open_recording(const ViewerOptions& options, std::optional<SimulationSession>& session,
+                    std::optional<RecordingPlayer>& player) {
+  const std::filesystem::path dir = options.recording_dir;
+  Recording recording = read_recording(dir);
+  StatsTable stats;
+  if (std::filesystem::exists(dir / "stats.csv")) stats = read_stats_table(dir / "stats.csv");
+  SceneDesc scene = recording.scene;
+  session.emplace(SimulationSession::from_scene((dir / "run.json").string(), std::move(scene)));
+  player.emplace(std::move(recording), std::move(stats));
+  player->check_matches(*session);
+  if (options.recording_frame >= player->frames()) {
+    throw IoError(options.recording_dir + ": --frame " + std::to_string(options.recording_frame) +
+                  ": the recording has frames 0 to " + std::to_string(player->frames() - 1));
+  }
+}
+
+int run_window(GLFWwindow* window, SimulationSession session, RecordingPlayer* player,
+               const ViewerOptions& options, const std::string& shader_dir, bool starts_tangled) {
   SimulationWorker worker(std::move(session));
-  ViewerLoop loop(window, worker, options, shader_dir, starts_tangled);
+  ViewerLoop loop(window, worker, player, options, shader_dir, starts_tangled);
   return loop.run();
 }
 
 }  // namespace
 
 int run_viewer(const ViewerOptions& options) {
-  // The scene is checked before any window opens, so a bad file fails the same way everywhere.
+  // The scene (or recording) is checked before any window opens, so a bad file fails the same way
+  // everywhere.
   std::optional<SimulationSession> session;
+  std::optional<RecordingPlayer> player;
+  const bool recording = !options.recording_dir.empty();
+  const char* prefix = recording ? "weft view" : "weft";
   try {
-    session.emplace(options.scene_path, options.overrides);
+    if (recording) {
+      open_recording(options, session, player);
+    } else {
+      session.emplace(options.scene_path, options.overrides);
+    }
   } catch (const SceneError& error) {
-    std::fprintf(stderr, "weft: %s\n", error.what());
+    std::fprintf(stderr, "%s: %s\n", prefix, error.what());
     return 2;
   } catch (const IoError& error) {
-    std::fprintf(stderr, "weft: %s\n", error.what());
+    std::fprintf(stderr, "%s: %s\n", prefix, error.what());
     return 2;
   }
   session->set_threads(options.threads);
@@ -732,7 +812,7 @@ int run_viewer(const ViewerOptions& options) {
     std::fputs(no_window_message, stderr);
     return 1;
   }
-  Window window(options, "Weft - " + options.scene_path);
+  Window window(options, "Weft - " + (recording ? options.recording_dir : options.scene_path));
   if (window.get() == nullptr) {
     std::fputs(no_window_message, stderr);
     return 1;
@@ -745,7 +825,8 @@ int run_viewer(const ViewerOptions& options) {
   }
 
   try {
-    return run_window(window.get(), std::move(*session), options, shader_dir, starts_tangled);
+    return run_window(window.get(), std::move(*session), player ? &*player : nullptr, options, shader_dir,
+                      starts_tangled);
   } catch (const RenderError& error) {
     std::fprintf(stderr, "weft: %s\n", error.what());
     return 1;

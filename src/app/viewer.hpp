@@ -7,6 +7,8 @@ namespace weft {
 
 struct ViewerOptions {
   std::string scene_path;
+  std::string recording_dir;           // if set: show this headless recording (`weft view DIR`)
+  int recording_frame = 0;             // with recording_dir: the frame shown first (--frame)
   std::vector<std::string> overrides;  // "--set path=value"
   std::string screenshot_path;         // if set: run `frames` frames, save a PNG, exit
   int frames = 0;                      // with screenshot_path: frames to simulate first
@@ -25,7 +27,7 @@ struct ViewerOptions {
 };
 
 // Opens the window and runs until closed. Returns the process exit code: 0, 1 when no window
-// can be opened (message on stderr naming --headless), 2 for a bad scene or option, 4 when a
+// can be opened (message on stderr naming --headless), 2 for a bad scene, recording or option, 4 when a
 // screenshot cannot be written, 5 when a screenshot run's drawing raised an OpenGL error.
 int run_viewer(const ViewerOptions& options);
 

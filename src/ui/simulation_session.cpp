@@ -63,6 +63,15 @@ void SimulationSession::show_state_of(const SimulationSession& live) {
   error_ = live.error_;
 }
 
+SimulationSession SimulationSession::from_scene(std::string source, SceneDesc scene) {
+  SimulationSession session;
+  session.scene_path_ = std::move(source);
+  session.scene_ = std::move(scene);
+  session.world_ = build_world(session.scene_);
+  session.set_max_time_step(session.scene_.time_step);
+  return session;
+}
+
 bool SimulationSession::replace_world(const std::string& scene_path, const std::vector<std::string>& overrides,
                                       const char* action) {
   try {

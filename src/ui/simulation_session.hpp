@@ -15,6 +15,9 @@ class SimulationSession {
  public:
   // Loads and builds the scene; throws SceneError or IoError.
   SimulationSession(std::string scene_path, std::vector<std::string> overrides);
+  // Builds a scene already read (a recording's run.json); `source` names it in messages. Such a
+  // session is shown, not reset (reset() would read `source` as a scene file). Throws SceneError.
+  static SimulationSession from_scene(std::string source, SceneDesc scene);
 
   // A copy to draw from: the same scene, settings, cloths and colliders, and this session's shown
   // state (show_state_of). It is not meant to be stepped; its settings are for panels to edit.

@@ -23,6 +23,7 @@ struct SessionRequests {
   bool reset = false;  // reload the scene file
   bool clear_error = false;
   std::string load;  // another scene file, if not empty
+  int show_frame = -1;  // a recording's frame to show, if not negative
 };
 
 struct ViewerState {
@@ -44,6 +45,7 @@ struct ViewerState {
   double real_time_factor = 0.0;  // simulated seconds per wall second (the worker's)
   double steps_per_second = 0.0;  // the worker's steps per wall second
   HoverInfo hover;
+  std::vector<std::string> tangle_pairs;  // the shown frame's intersecting pairs, with "tangles" on
   std::string last_saved;          // the last screenshot written
 };
 

@@ -1,10 +1,11 @@
 // png_check FILE [--min-cloth FRACTION] [--min-grey FRACTION] [--hue LO HI MIN_FRACTION MAX_FRACTION]...
-//           [--differs OTHER MIN_FRACTION]
+//           [--differs OTHER MIN_FRACTION] [--matches OTHER MAX_FRACTION]
 // Fails unless a viewer screenshot shows something: at least FRACTION of its pixels in the cloth's
 // colour families (warm orange front, blue back) and, if asked, in the colliders' greys. The dark
 // background gradient falls in neither family. --hue counts saturated, bright pixels with a hue
 // in [LO, HI] degrees (LO > HI wraps through 0), e.g. the overlay's boxes or contact points;
-// --differs asks that at least MIN_FRACTION of the pixels differ visibly from those of OTHER.
+// --differs asks that at least MIN_FRACTION of the pixels differ visibly from those of OTHER,
+// --matches that at most MAX_FRACTION do.
 #include <stb_image.h>
 
 #include <algorithm>
@@ -60,7 +61,8 @@ struct HueCheck {
 int usage() {
   std::fprintf(stderr,
                "usage: png_check FILE [--min-cloth FRACTION] [--min-grey FRACTION] "
-               "[--hue LO HI MIN_FRACTION MAX_FRACTION]... [--differs OTHER MIN_FRACTION]\n");
+               "[--hue LO HI MIN_FRACTION MAX_FRACTION]... [--differs OTHER MIN_FRACTION] "
+               "[--matches OTHER MAX_FRACTION]\n");
   return 2;
 }
 
@@ -74,6 +76,8 @@ int main(int argc, char** argv) {
   std::vector<HueCheck> hue_checks;
   std::string other_path;
   double min_differing = 0.0;
+  bool matches = false;  // --matches: at most max_differing differ
+  double max_differing = 1.0;
   for (int k = 2; k < argc; ++k) {
     if (k + 1 >= argc) return usage();
     if (std::strcmp(argv[k], "--min-cloth") == 0) {
@@ -86,6 +90,11 @@ int main(int argc, char** argv) {
     } else if (std::strcmp(argv[k], "--differs") == 0 && k + 2 < argc) {
       other_path = argv[k + 1];
       min_differing = std::atof(argv[k + 2]);
+      k += 2;
+    } else if (std::strcmp(argv[k], "--matches") == 0 && k + 2 < argc) {
+      other_path = argv[k + 1];
+      matches = true;
+      max_differing = std::atof(argv[k + 2]);
       k += 2;
     } else {
       return usage();
@@ -131,9 +140,10 @@ int main(int argc, char** argv) {
         differing += change > 24;
       }
       const double fraction = static_cast<double>(differing) / std::max(total, 1L);
-      const bool passed = fraction >= min_differing;
-      std::printf("%s: %.3f%% of pixels differ from %s (need %.3f%%)%s\n", path.c_str(), 100.0 * fraction,
-                  other_path.c_str(), 100.0 * min_differing, passed ? "" : " FAILED");
+      const bool passed = matches ? fraction <= max_differing : fraction >= min_differing;
+      std::printf("%s: %.3f%% of pixels differ from %s (need %s %.3f%%)%s\n", path.c_str(), 100.0 * fraction,
+                  other_path.c_str(), matches ? "at most" : "at least",
+                  100.0 * (matches ? max_differing : min_differing), passed ? "" : " FAILED");
       ok = ok && passed;
     }
     stbi_image_free(other);
