@@ -95,6 +95,7 @@ struct CommandLine {
   int subdivision = 0;
   bool test_contacts = false;
   bool play = false;
+  int history_mb = 256;
   double quit_after = 0.0;
   std::string frame_times;
   std::string window_size_text = "1280x720";
@@ -145,6 +146,10 @@ void add_run_options(CLI::App& app, CommandLine& line) {
   app.add_flag("--test-contacts", line.test_contacts,
                "Viewer: draw synthetic contacts (tests the contact display)");
   app.add_flag("--play", line.play, "Viewer: start playing (else it opens paused; Space plays)");
+  app.add_option("--history-mb", line.history_mb,
+                 "Viewer: memory for the latest frames kept to scrub back through and resume from (0: none)")
+      ->check(whole_number("megabytes", 0, 1 << 20, "from 0 to 1048576"))
+      ->capture_default_str();
   app.add_option("--quit-after", line.quit_after, "Viewer: close the window after SECONDS of wall time")
       ->check(CLI::PositiveNumber);
   app.add_option("--frame-times", line.frame_times,
@@ -242,7 +247,8 @@ int run_headless_command(const CLI::App& app, CommandLine& line) {
         "weft: --resume DIR continues the recording in DIR; leave out --out or give the same folder\n");
     return 2;
   }
-  for (const char* option : {"--screenshot", "--record", "--play", "--quit-after", "--frame-times"}) {
+  for (const char* option :
+       {"--screenshot", "--record", "--play", "--quit-after", "--frame-times", "--history-mb"}) {
     if (app.count(option) > 0) {
       std::fprintf(stderr, "weft: %s needs the viewer; it cannot be combined with --headless\n", option);
       return 2;
@@ -285,6 +291,7 @@ int run_viewer_command(const CLI::App& app, CommandLine& line) {
   options.subdivision = line.subdivision;
   options.test_contacts = line.test_contacts;
   options.play = line.play;
+  options.history_mb = line.history_mb;
   options.quit_after_seconds = line.quit_after;
   options.frame_times_path = line.frame_times;
   options.threads = line.headless_options.threads;

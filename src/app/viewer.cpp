@@ -590,8 +590,40 @@ class ViewerLoop {
     requests = {};
   }
 
+  void set_playing(bool playing) {
+    shown().playing = playing;
+    worker_.submit([playing](SimulationSession& session) { session.playing = playing; });
+  }
+
+  // Looking back through the worker's history: a kept frame shown (paused), then back to the
+  // latest, or on from the frame shown. Play while looking back plays from the latest.
+  void send_history_requests() {
+    SessionRequests& requests = state_.requests;
+    if (requests.history_frame >= 0) {
+      if (shown().playing) set_playing(false);
+      if (std::shared_ptr<const Checkpoint> checkpoint = worker_.history_frame(requests.history_frame)) {
+        scrubbed_ = std::move(checkpoint);
+        shown().show_checkpoint(*scrubbed_);
+        state_.scrubbed_frame = scrubbed_->frame;
+      }
+    }
+    if (scrubbed_ == nullptr) return;
+    if (requests.resume_shown) {
+      worker_.resume_from(scrubbed_->frame);
+    } else if (requests.resume_latest || requests.toggle_play) {
+      worker_.submit([](SimulationSession&) {});  // publishes the latest again
+    } else {
+      return;
+    }
+    requests.toggle_play = false;
+    set_playing(true);
+    scrubbed_ = nullptr;
+    state_.scrubbed_frame = -1;
+  }
+
   void send_requests() {
     if (player_ != nullptr) return send_recording_requests();
+    send_history_requests();
     SessionRequests& requests = state_.requests;
     if (requests.toggle_play) {
       shown().playing = !shown().playing;
@@ -618,10 +650,18 @@ class ViewerLoop {
     }
     const int generation = shown().generation();
     const double time_before = shown().world().time();
-    if (!screenshot_ && worker_.exchange(mouse_.drag(), state_.speed) && shown().generation() == generation &&
-        shown().world().time() != time_before) {
+    const bool changed = !screenshot_ && worker_.exchange(mouse_.drag(), state_.speed);
+    if (changed && scrubbed_ != nullptr) {
+      if (shown().generation() == generation) {
+        shown().show_checkpoint(*scrubbed_);  // still looking back
+      } else {
+        scrubbed_ = nullptr;  // another world: its history is gone
+        state_.scrubbed_frame = -1;
+      }
+    } else if (changed && shown().generation() == generation && shown().world().time() != time_before) {
       state_.history.record(shown().world());
     }
+    state_.kept_frames = worker_.history();
     state_.real_time_factor = worker_.rates().real_time_factor;
     state_.steps_per_second = worker_.rates().steps_per_second;
   }
@@ -721,6 +761,7 @@ class ViewerLoop {
   GLFWwindow* window_;
   SimulationWorker& worker_;
   RecordingPlayer* player_;
+  std::shared_ptr<const Checkpoint> scrubbed_;  // the history frame shown, null when the latest
   const ViewerOptions& options_;
   ImGuiLayer imgui_;
   Renderer renderer_;
@@ -763,7 +804,7 @@ void open_recording(const ViewerOptions& options, std::optional<SimulationSessio
 
 int run_window(GLFWwindow* window, SimulationSession session, RecordingPlayer* player,
                const ViewerOptions& options, const std::string& shader_dir, bool starts_tangled) {
-  SimulationWorker worker(std::move(session));
+  SimulationWorker worker(std::move(session), static_cast<size_t>(options.history_mb) << 20);
   ViewerLoop loop(window, worker, player, options, shader_dir, starts_tangled);
   return loop.run();
 }

@@ -20,6 +20,7 @@ struct ViewerOptions {
   int subdivision = 0;                 // Loop subdivision levels of the displayed cloth (0 to 2)
   bool test_contacts = false;          // draw synthetic contacts (tests the contact display path)
   bool play = false;                   // start playing
+  int history_mb = 256;                // memory for the frames kept to look back through (0: none)
   double quit_after_seconds = 0.0;     // > 0: close after this much wall time
   std::string frame_times_path;        // if set: each drawn frame's times, written on closing
   int width = 1280, height = 720;

@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "io/scene_builder.hpp"
 #include "io/scene_file.hpp"
+#include "ui/session_settings.hpp"
 
 namespace weft {
 
@@ -70,6 +71,26 @@ SimulationSession SimulationSession::from_scene(std::string source, SceneDesc sc
   session.world_ = build_world(session.scene_);
   session.set_max_time_step(session.scene_.time_step);
   return session;
+}
+
+void SimulationSession::show_checkpoint(const Checkpoint& checkpoint) {
+  restore_checkpoint(checkpoint, world_, "the viewer's history");
+  frame_ = checkpoint.frame;
+  step_in_frame_ = 0;
+}
+
+void SimulationSession::restart_from(const Checkpoint& checkpoint) {
+  const SessionSettings edited = read_settings(*this, VertexDrag());
+  World world = build_world(scene_);
+  restore_checkpoint(checkpoint, world, "the viewer's history");
+  world_ = std::move(world);
+  apply_settings(*this, edited);
+  world_.settings.threads = threads_;
+  frame_ = checkpoint.frame;
+  step_in_frame_ = 0;
+  time_owed_ = 0.0;
+  previous_contacts_ = 0;
+  error_.clear();
 }
 
 bool SimulationSession::replace_world(const std::string& scene_path, const std::vector<std::string>& overrides,

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "io/checkpoint.hpp"
 #include "sim/scene_desc.hpp"
 #include "sim/world.hpp"
 
@@ -25,6 +26,15 @@ class SimulationSession {
   // Takes in what `live` (this mirror's origin, same generation) shows: its world's state
   // (World::show_state_of), frame, step within it and error.
   void show_state_of(const SimulationSession& live);
+
+  // Shows a checkpoint of this session's world (a frame of the viewer's history): its state in
+  // the world, at its frame. For a mirror, which is drawn and not stepped. Throws IoError when the
+  // world does not match.
+  void show_checkpoint(const Checkpoint& checkpoint);
+  // Goes on from a checkpoint of this session's world: the world rebuilt from the scene as loaded
+  // (not the file), as a resumed headless run, with the checkpoint's state, its frame, and the
+  // settings and materials edited since. The generation stays: views keep their meshes.
+  void restart_from(const Checkpoint& checkpoint);
 
   // Reloads the scene file and rebuilds the world. On failure keeps the current world, keeps the
   // message in error(), and returns false.

@@ -16,17 +16,30 @@ constexpr double publish_every_ms = 10.0;
 // Rates are averaged over windows this long.
 constexpr double rate_window_seconds = 0.5;
 
+size_t checkpoint_bytes(const Checkpoint& checkpoint) {
+  size_t bytes = sizeof(Checkpoint);
+  for (const ClothCheckpoint& cloth : checkpoint.cloths) {
+    bytes += sizeof(double) * static_cast<size_t>(cloth.x.size() + cloth.v.size() +
+                                                  cloth.rest_positions.size() + cloth.membrane_rest.size());
+  }
+  return bytes + checkpoint.contact_pairs.size() * sizeof(checkpoint.contact_pairs[0]);
+}
+
 bool same_drag(const VertexDrag& a, const VertexDrag& b) {
   return a.active() == b.active() && a.cloth() == b.cloth() && a.vertex() == b.vertex();
 }
 
 }  // namespace
 
-SimulationWorker::SimulationWorker(SimulationSession session)
+SimulationWorker::SimulationWorker(SimulationSession session, size_t history_bytes)
     : live_(std::move(session)),
       shown_(std::make_unique<SimulationSession>(live_.mirror())),
+      history_limit_(history_bytes),
       back_(std::make_unique<SimulationSession>(live_.mirror())) {
-  live_.before_step = [this](World& world) { live_drag_.apply(world); };
+  live_.before_step = [this](World& world) {
+    if (live_.step_in_frame() == 0) remember_frame();
+    live_drag_.apply(world);
+  };
   thread_ = std::thread([this] { run(); });
 }
 
@@ -79,6 +92,49 @@ void SimulationWorker::wait_for_commands() {
   published_.wait(lock, [&] { return applied_ >= target; });
 }
 
+void SimulationWorker::remember_frame() {
+  if (history_limit_ == 0) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!history_.empty() && history_.back()->frame >= live_.frame()) return;
+  }
+  auto checkpoint =
+      std::make_shared<const Checkpoint>(capture_checkpoint(live_.world(), live_.frame(), "", 0.0));
+  const size_t bytes = checkpoint_bytes(*checkpoint);
+  std::lock_guard<std::mutex> lock(mutex_);
+  history_.push_back(std::move(checkpoint));
+  history_bytes_ += bytes;
+  while (history_bytes_ > history_limit_ && !history_.empty()) {
+    history_bytes_ -= checkpoint_bytes(*history_.front());
+    history_.pop_front();
+  }
+}
+
+HistoryRange SimulationWorker::history() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (history_.empty()) return {};
+  return {history_.front()->frame, history_.back()->frame, history_bytes_};
+}
+
+std::shared_ptr<const Checkpoint> SimulationWorker::history_frame(int frame) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (history_.empty() || frame < history_.front()->frame || frame > history_.back()->frame) return nullptr;
+  return history_[static_cast<size_t>(frame - history_.front()->frame)];
+}
+
+void SimulationWorker::resume_from(int frame) {
+  std::shared_ptr<const Checkpoint> checkpoint = history_frame(frame);
+  if (checkpoint == nullptr) return;
+  submit([this, checkpoint](SimulationSession& session) {
+    session.restart_from(*checkpoint);
+    std::lock_guard<std::mutex> lock(mutex_);
+    while (!history_.empty() && history_.back()->frame > checkpoint->frame) {
+      history_bytes_ -= checkpoint_bytes(*history_.back());
+      history_.pop_back();
+    }
+  });
+}
+
 void SimulationWorker::apply(const SessionSettings& settings) {
   if (!apply_settings(live_, settings)) return;  // read from a world since replaced
   if (same_drag(live_drag_, settings.drag)) {
@@ -90,6 +146,7 @@ void SimulationWorker::apply(const SessionSettings& settings) {
 }
 
 void SimulationWorker::publish(long applied, const WorkerRates& rates) {
+  if (live_.step_in_frame() == 0) remember_frame();  // the latest frame too, before its first step
   bool need_mirror = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -144,7 +201,12 @@ void SimulationWorker::run() {
         command(live_);
         ++applied;
       }
-      if (live_.generation() != generation) live_drag_ = VertexDrag();  // the old world's vertex
+      if (live_.generation() != generation) {
+        live_drag_ = VertexDrag();  // the old world's vertex
+        std::lock_guard<std::mutex> lock(mutex_);
+        history_.clear();  // another world's frames
+        history_bytes_ = 0;
+      }
       const Clock::time_point now = Clock::now();
       if (!was_playing) last = now;  // no debt from the time spent paused
       const double wall_seconds = std::min(std::chrono::duration<double>(now - last).count(), 0.25);

@@ -16,6 +16,13 @@
 
 namespace weft {
 
+// The frames the worker keeps (its history): first to last, each a Checkpoint at the frame's start.
+struct HistoryRange {
+  int first = -1, last = -1;  // -1 when empty
+  size_t bytes = 0;
+  bool empty() const { return first < 0; }
+};
+
 // How fast the worker steps, measured on its own thread.
 struct WorkerRates {
   double steps_per_second = 0.0;
@@ -27,7 +34,9 @@ class SimulationWorker {
   using Command = std::function<void(SimulationSession&)>;
 
   // Takes the session and starts the thread; the session's before_step is the worker's from now on.
-  explicit SimulationWorker(SimulationSession session);
+  // It keeps the state at every frame's start, the latest frames up to `history_bytes` (0: none),
+  // for the UI to scrub back through; a reset or another scene clears them.
+  explicit SimulationWorker(SimulationSession session, size_t history_bytes = 256u << 20);
   // Stops after the step or command under way and joins the thread.
   ~SimulationWorker();
   SimulationWorker(const SimulationWorker&) = delete;
@@ -51,18 +60,29 @@ class SimulationWorker {
   void wait_for_commands();
   const WorkerRates& rates() const { return shown_rates_; }
 
+  HistoryRange history() const;
+  // The state at the start of `frame`, null when the history does not hold it.
+  std::shared_ptr<const Checkpoint> history_frame(int frame) const;
+  // Queues a restart from the history's `frame` (SimulationSession::restart_from): the frames after
+  // it are dropped. Does nothing if the history does not hold it.
+  void resume_from(int frame);
+  size_t history_limit() const { return history_limit_; }
+
  private:
   void run();
   // Hands the worker's session to the UI: its state into back_, or a new mirror after a reset.
   void publish(long applied, const WorkerRates& rates);
   // The UI's settings and drag, if any came: applied to the worker's session before its step.
   void apply(const SessionSettings& settings);
+  // The worker's session at a frame's start into the history (once per frame), oldest dropped.
+  void remember_frame();
 
   SimulationSession live_;  // the worker thread's alone
   VertexDrag live_drag_;
   std::unique_ptr<SimulationSession> shown_;  // the UI thread's alone
 
-  std::mutex mutex_;                   // guards everything below
+  const size_t history_limit_;
+  mutable std::mutex mutex_;           // guards everything below
   std::condition_variable wake_;       // the worker: commands, settings or stop
   std::condition_variable published_;  // finish_commands: a publication
   std::deque<Command> commands_;
@@ -74,6 +94,8 @@ class SimulationWorker {
   bool back_fresh_ = false;                  // published since the UI last took it in
   WorkerRates back_rates_;
   bool stop_ = false;
+  std::deque<std::shared_ptr<const Checkpoint>> history_;  // consecutive frames, oldest first
+  size_t history_bytes_ = 0;
 
   WorkerRates shown_rates_;  // the UI thread's copy
   std::thread thread_;       // last: starts once everything above exists

@@ -15,10 +15,9 @@ void draw_status_line(const SimulationSession& session, const ViewerState& state
                                  ImGuiWindowFlags_NoNav;
   if (ImGui::Begin("##status", nullptr, flags)) {
     const World& world = session.world();
-    int vertices = 0, triangles = 0;
+    int vertices = 0;
     for (const Cloth& cloth : world.cloths()) {
       vertices += cloth.num_vertices();
-      triangles += static_cast<int>(cloth.model.triangles.cols());
     }
     const StepStats& stats = world.last_step_stats();
     if (!session.playing) {
@@ -28,11 +27,10 @@ void draw_status_line(const SimulationSession& session, const ViewerState& state
       ImGui::SameLine();
     }
     ImGui::Text(
-        "%d vertices, %d triangles | %d contacts | step %.2f ms (prepare %.2f, integrate %.2f, "
-        "collisions %.2f) | %d threads | window %.0f fps | %.1f steps/s, %.2fx real time",
-        vertices, triangles, stats.contacts, stats.total_ms, stats.prepare_collisions_ms, stats.integrate_ms,
-        stats.collisions_ms, session.threads(), state.frames_per_second, state.steps_per_second,
-        state.real_time_factor);
+        "%d vertices | %d contacts | step %.1f ms (integrate %.1f, collisions %.1f) | %d "
+        "threads: %.1f steps/s, %.2fx real time | window %.0f fps",
+        vertices, stats.contacts, stats.total_ms, stats.integrate_ms, stats.collisions_ms, session.threads(),
+        state.steps_per_second, state.real_time_factor, state.frames_per_second);
     if (stats.unconverged_steps > 0) {  // the last step's implicit solve stopped short of its tolerance
       ImGui::SameLine();
       ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.2f, 1.0f), "| Newton unconverged (residual %.2g m/s)",

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "render/world_view.hpp"
+#include "ui/simulation_worker.hpp"
 #include "ui/stats_history.hpp"
 
 namespace weft {
@@ -24,6 +25,9 @@ struct SessionRequests {
   bool clear_error = false;
   std::string load;  // another scene file, if not empty
   int show_frame = -1;  // a recording's frame to show, if not negative
+  int history_frame = -1;      // a kept frame to show (pauses), if not negative
+  bool resume_latest = false;  // leave the history: the latest frame, playing
+  bool resume_shown = false;   // go on from the history frame shown, playing
 };
 
 struct ViewerState {
@@ -45,6 +49,8 @@ struct ViewerState {
   double real_time_factor = 0.0;  // simulated seconds per wall second (the worker's)
   double steps_per_second = 0.0;  // the worker's steps per wall second
   HoverInfo hover;
+  HistoryRange kept_frames;               // the worker's history, as of this frame
+  int scrubbed_frame = -1;                // the history frame shown, -1 when showing the latest
   std::vector<std::string> tangle_pairs;  // the shown frame's intersecting pairs, with "tangles" on
   std::string last_saved;          // the last screenshot written
 };

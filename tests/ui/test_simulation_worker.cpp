@@ -195,5 +195,75 @@ TEST(SimulationWorker, DragsTheVertexTheUiHolds) {
   EXPECT_FALSE(worker.shown().world().cloths()[0].state.x == undragged.world().cloths()[0].state.x);
 }
 
+void frames_on_worker(SimulationWorker& worker, int frames) {
+  for (int i = 0; i < frames; ++i) worker.submit([](SimulationSession& session) { session.advance_frame(); });
+  worker.wait_for_commands();
+  worker.exchange(VertexDrag(), 1.0);
+}
+
+TEST(SimulationWorker, KeepsEachFramesStartWithinItsMemoryBound) {
+  const TempSceneFile file(scene);
+  SimulationSession reference(file.path(), {});
+  std::vector<Positions> at_frame{reference.world().cloths()[0].state.x};
+  for (int frame = 1; frame <= 10; ++frame) {
+    reference.advance_frame();
+    at_frame.push_back(reference.world().cloths()[0].state.x);
+  }
+  SimulationWorker worker(SimulationSession(file.path(), {}));
+  frames_on_worker(worker, 10);
+  const HistoryRange range = worker.history();
+  EXPECT_EQ(range.first, 0);
+  EXPECT_EQ(range.last, 10) << "the latest frame is kept too";
+  for (const int frame : {0, 4, 10}) {
+    const std::shared_ptr<const Checkpoint> state = worker.history_frame(frame);
+    ASSERT_NE(state, nullptr);
+    EXPECT_EQ(state->frame, frame);
+    EXPECT_TRUE(state->cloths[0].x == at_frame[static_cast<size_t>(frame)]) << "frame " << frame;
+  }
+  EXPECT_EQ(worker.history_frame(11), nullptr);
+
+  // Bounded: room for three frames keeps the latest three.
+  SimulationWorker bounded(SimulationSession(file.path(), {}), 3 * range.bytes / 11 + range.bytes / 22);
+  frames_on_worker(bounded, 10);
+  EXPECT_EQ(bounded.history().first, 8);
+  EXPECT_EQ(bounded.history().last, 10);
+  EXPECT_LE(bounded.history().bytes, bounded.history_limit());
+  SimulationWorker none(SimulationSession(file.path(), {}), 0);
+  frames_on_worker(none, 3);
+  EXPECT_TRUE(none.history().empty());
+}
+
+TEST(SimulationWorker, ResumesFromAFrameOfItsHistoryAsAnUninterruptedRun) {
+  const TempSceneFile file(scene);
+  SimulationWorker worker(SimulationSession(file.path(), {}));
+  frames_on_worker(worker, 8);
+  const int generation = worker.shown().generation();
+  worker.resume_from(3);
+  worker.wait_for_commands();
+  worker.exchange(VertexDrag(), 1.0);
+  EXPECT_EQ(worker.shown().frame(), 3);
+  EXPECT_EQ(worker.shown().generation(), generation) << "the same world's meshes";
+  EXPECT_EQ(worker.history().last, 3) << "the frames after it are gone";
+  frames_on_worker(worker, 4);
+  SimulationSession reference(file.path(), {});
+  for (int i = 0; i < 7; ++i) reference.advance_frame();
+  expect_same_state(worker.shown(), reference);
+}
+
+TEST(SimulationWorker, AResumeKeepsTheSettingsEditedSince) {
+  const TempSceneFile file(scene);
+  SimulationWorker worker(SimulationSession(file.path(), {}));
+  frames_on_worker(worker, 2);
+  worker.shown().world().settings.gravity = Vec3(0.0, -2.0, 0.0);
+  worker.exchange(VertexDrag(), 1.0);
+  worker.resume_from(1);
+  frames_on_worker(worker, 1);
+  SimulationSession reference(file.path(), {});
+  reference.advance_frame();
+  reference.world().settings.gravity = Vec3(0.0, -2.0, 0.0);
+  reference.advance_frame();
+  expect_same_state(worker.shown(), reference);
+}
+
 }  // namespace
 }  // namespace weft
