@@ -143,11 +143,12 @@ Ray mouse_ray(const OrbitCamera& camera, const Viewport& viewport) {
 
 // Mouse over the 3D view (not over ImGui): left drag on cloth pulls the vertex, elsewhere (or with
 // Alt) orbits; right or middle drag pans; the wheel zooms. Hovering shows the vertex under the cursor.
+// A recording has nothing to pull: there a left drag always orbits.
 class MouseControl {
  public:
   // `bvhs`: the displayed cloths' hierarchies, for picking.
   void update(OrbitCamera& camera, SimulationSession& session, ViewerState& state, const Viewport& viewport,
-              const std::vector<Bvh>& bvhs) {
+              const std::vector<Bvh>& bvhs, bool can_pull) {
     const ImGuiIO& io = ImGui::GetIO();
     World& world = session.world();
     const Ray ray = mouse_ray(camera, viewport);
@@ -168,7 +169,7 @@ class MouseControl {
     const std::optional<VertexPick> pick = pick_vertex(world.cloths(), ray, &bvhs);
     if (pick) state.hover = {true, pick->cloth, pick->vertex};
     if (ImGui::IsMouseClicked(0)) {
-      orbiting_ = io.KeyAlt || !pick;
+      orbiting_ = io.KeyAlt || !pick || !can_pull;
       if (!orbiting_) {
         drag_plane_point_ = pick->hit;
         drag_.begin(pick->cloth, pick->vertex, pick->hit);
@@ -468,7 +469,7 @@ class ViewerLoop {
 
       imgui_.begin_frame();
       if (!screenshot_) {
-        mouse_.update(camera_, shown(), state_, viewport_, meshes_.cloth_bvhs);
+        mouse_.update(camera_, shown(), state_, viewport_, meshes_.cloth_bvhs, player_ == nullptr);
         handle_keys(shown(), state_, camera_, viewport_);
       }
       draw_panels();

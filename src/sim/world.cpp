@@ -54,6 +54,9 @@ void World::show_state_of(const World& other) {
       throw std::logic_error("World::show_state_of: another cloth size");
     cloths_[c].state.x = other.cloths_[c].state.x;
     cloths_[c].state.v = other.cloths_[c].state.v;
+    // Plastic flow moves the rest shapes, which the strain map reads.
+    if (other.cloths_[c].model.membrane.plastic())
+      cloths_[c].model.membrane.rest = other.cloths_[c].model.membrane.rest;
   }
   time_ = other.time_;
   stats_ = other.stats_;

@@ -143,9 +143,9 @@ class World {
   Energies energies() const;
 
   // A view's copy of what `other`, a world with the same cloths and colliders, shows after its
-  // last step: each cloth's positions and velocities, the time, the step's stats and contacts.
-  // This world's settings, materials and solver state stay as they are. Throws std::logic_error
-  // when the cloths differ in number or size.
+  // last step: each cloth's positions and velocities (and rest shapes where plastic), the time, the step's
+  // stats and contacts. This world's settings, materials and solver state stay as they are. Throws
+  // std::logic_error when the cloths differ in number or size.
   void show_state_of(const World& other);
 
   // Checkpoints (io/checkpoint.hpp) save and restore what the step carries from one call to

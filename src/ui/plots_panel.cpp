@@ -28,6 +28,8 @@ void draw_plots_panel(const ViewerState& state) {
     ImGui::End();
     return;
   }
+  // Plots as wide as the window leaves beside the longest label.
+  ImGui::PushItemWidth(-(ImGui::CalcTextSize("prepare collisions").x + ImGui::GetStyle().ItemInnerSpacing.x));
   const StatsHistory& history = state.history;
   plot("kinetic", history.kinetic, "J");
   // Potential energy (gravity included) can be negative: let the plot pick its own range.
@@ -40,6 +42,7 @@ void draw_plots_panel(const ViewerState& state) {
   plot("collisions", history.collisions_ms, "ms");
   plot("prepare collisions", history.prepare_collisions_ms, "ms");
   plot("Newton its", history.newton_iterations, "");
+  ImGui::PopItemWidth();
   ImGui::End();
 }
 

@@ -96,6 +96,11 @@ void SimulationWorker::remember_frame() {
   if (history_limit_ == 0) return;
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (history_generation_ != live_.generation()) {
+      history_.clear();  // another world's frames
+      history_bytes_ = 0;
+      history_generation_ = live_.generation();
+    }
     if (!history_.empty() && history_.back()->frame >= live_.frame()) return;
   }
   auto checkpoint =
@@ -119,7 +124,9 @@ HistoryRange SimulationWorker::history() const {
 std::shared_ptr<const Checkpoint> SimulationWorker::history_frame(int frame) const {
   std::lock_guard<std::mutex> lock(mutex_);
   if (history_.empty() || frame < history_.front()->frame || frame > history_.back()->frame) return nullptr;
-  return history_[static_cast<size_t>(frame - history_.front()->frame)];
+  const std::shared_ptr<const Checkpoint>& kept =
+      history_[static_cast<size_t>(frame - history_.front()->frame)];
+  return kept->frame == frame ? kept : nullptr;
 }
 
 void SimulationWorker::resume_from(int frame) {
@@ -201,12 +208,7 @@ void SimulationWorker::run() {
         command(live_);
         ++applied;
       }
-      if (live_.generation() != generation) {
-        live_drag_ = VertexDrag();  // the old world's vertex
-        std::lock_guard<std::mutex> lock(mutex_);
-        history_.clear();  // another world's frames
-        history_bytes_ = 0;
-      }
+      if (live_.generation() != generation) live_drag_ = VertexDrag();  // the old world's vertex
       const Clock::time_point now = Clock::now();
       if (!was_playing) last = now;  // no debt from the time spent paused
       const double wall_seconds = std::min(std::chrono::duration<double>(now - last).count(), 0.25);

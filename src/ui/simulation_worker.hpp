@@ -96,6 +96,7 @@ class SimulationWorker {
   bool stop_ = false;
   std::deque<std::shared_ptr<const Checkpoint>> history_;  // consecutive frames, oldest first
   size_t history_bytes_ = 0;
+  int history_generation_ = -1;  // the world the history's frames belong to
 
   WorkerRates shown_rates_;  // the UI thread's copy
   std::thread thread_;       // last: starts once everything above exists

@@ -28,9 +28,10 @@ void draw_status_line(const SimulationSession& session, const ViewerState& state
     }
     ImGui::Text(
         "%d vertices | %d contacts | step %.1f ms (integrate %.1f, collisions %.1f) | %d "
-        "threads: %.1f steps/s, %.2fx real time | window %.0f fps",
+        "%s: %.1f steps/s, %.2fx real time | window %.0f fps",
         vertices, stats.contacts, stats.total_ms, stats.integrate_ms, stats.collisions_ms, session.threads(),
-        state.steps_per_second, state.real_time_factor, state.frames_per_second);
+        session.threads() == 1 ? "thread" : "threads", state.steps_per_second, state.real_time_factor,
+        state.frames_per_second);
     if (stats.unconverged_steps > 0) {  // the last step's implicit solve stopped short of its tolerance
       ImGui::SameLine();
       ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.2f, 1.0f), "| Newton unconverged (residual %.2g m/s)",

@@ -233,6 +233,28 @@ TEST(SimulationWorker, KeepsEachFramesStartWithinItsMemoryBound) {
   EXPECT_TRUE(none.history().empty());
 }
 
+TEST(SimulationWorker, AResetKeepsOnlyTheNewWorldsFramesEvenWhenStepsFollowInTheSameBatch) {
+  const TempSceneFile file(scene);
+  SimulationSession reference(file.path(), {});
+  reference.advance_frame();
+  const Positions frame_one = reference.world().cloths()[0].state.x;
+  SimulationWorker worker(SimulationSession(file.path(), {}));
+  frames_on_worker(worker, 5);
+  worker.shown().world().settings.gravity = Vec3::Zero();  // the old world's edit
+  worker.exchange(VertexDrag(), 1.0);
+  worker.submit([](SimulationSession& session) { session.reset(); });
+  worker.submit([](SimulationSession& session) { session.advance_frame(); });
+  worker.submit([](SimulationSession& session) { session.advance_frame(); });
+  worker.wait_for_commands();
+  worker.exchange(VertexDrag(), 1.0);
+  const HistoryRange range = worker.history();
+  EXPECT_EQ(range.first, 0);
+  EXPECT_EQ(range.last, 2);
+  const std::shared_ptr<const Checkpoint> one = worker.history_frame(1);
+  ASSERT_NE(one, nullptr);
+  EXPECT_TRUE(one->cloths[0].x == frame_one) << "frame 1 of the new world, under the file's gravity";
+}
+
 TEST(SimulationWorker, ResumesFromAFrameOfItsHistoryAsAnUninterruptedRun) {
   const TempSceneFile file(scene);
   SimulationWorker worker(SimulationSession(file.path(), {}));
