@@ -12,9 +12,20 @@
 
 namespace weft {
 
-void BarrierContact::set_meshes(const std::vector<BarrierMesh>& meshes,
-                                const std::vector<Collider>& analytic) {
+void BarrierContact::set_meshes(const std::vector<BarrierMesh>& meshes, const std::vector<Collider>& analytic,
+                                const std::vector<BarrierBall>& balls) {
   analytic_ = analytic;
+  balls_ = balls;
+  ball_colliders_.clear();
+  for (const BarrierBall& ball : balls) {
+    ball_colliders_.push_back(static_cast<int>(analytic_.size()));
+    Collider sphere;
+    sphere.shape = ColliderShape::sphere;
+    sphere.center = ball.center;
+    sphere.radius = ball.vertex_radius;
+    sphere.friction = ball.friction;
+    analytic_.push_back(sphere);
+  }
   slots_.clear();
   slots_.resize(meshes.size());
   num_cloths_ = 0;
@@ -111,6 +122,7 @@ void BarrierContact::prepare_cloth(int cloth, const std::vector<const Positions*
     if (!slot.mesh.is_cloth && !slot.built) update_hierarchies(slot, from_, from_);
   }
   stencils_ = &caches_[cloth].stencils;
+  cloth_triangles_ = &slots_[cloth].mesh.triangles;
 }
 
 int BarrierContact::local(int combined) const {
@@ -324,6 +336,46 @@ void BarrierContact::search() {
   report_.edge_edge_candidates = static_cast<int>(candidates_.edge_edge.size());
 }
 
+// A triangle's distance from a fixed point changes at most as fast as its fastest vertex moves.
+// Triangles starting inside a ball (placed so: the scene's push-out moves them) bound nothing.
+double BarrierContact::advance_balls(const Positions& x, const Positions& dx) {
+  if (balls_.empty()) return 1.0;
+  const Triangles& triangles = *cloth_triangles_;
+  const int num_balls = static_cast<int>(balls_.size());
+  const int count = static_cast<int>(triangles.cols()) * num_balls;
+  double alpha = 1.0;
+#pragma omp parallel for schedule(static) reduction(min : alpha) if (count > 1024)
+  for (int i = 0; i < count; ++i) {
+    const int t = i / num_balls;
+    const BarrierBall& ball = balls_[i % num_balls];
+    std::array<Vec3, 3> p, q;
+    bool free = false;
+    double lp = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const int v = triangles(k, t);
+      free = free || inverse_mass_[v] > 0.0;
+      p[k] = x.col(v);
+      q[k] = dx.col(v);
+      lp = std::max(lp, q[k].norm());
+    }
+    if (!free) continue;
+    // A lower bound on the distance first: the centroid's less the farthest corner's offset.
+    const Vec3 centroid = (p[0] + p[1] + p[2]) / 3.0;
+    const double reach =
+        std::max({(p[0] - centroid).norm(), (p[1] - centroid).norm(), (p[2] - centroid).norm()});
+    const double lower = (centroid - ball.center).norm() - reach - ball.radius;
+    if ((1.0 - settings.min_separation) * lower >= lp) continue;
+    const auto distance = [&](double s) {
+      return point_triangle_closest(ball.center, p[0] + s * q[0], p[1] + s * q[1], p[2] + s * q[2]).distance -
+             ball.radius;
+    };
+    const double d0 = distance(0.0);
+    if (!(d0 > 0.0) || (1.0 - settings.min_separation) * d0 >= lp) continue;
+    alpha = std::min(alpha, advance_conservatively(distance, d0, lp, settings.min_separation));
+  }
+  return alpha;
+}
+
 double BarrierContact::max_step(const Positions& x, const Positions& dx) {
   const int n = static_cast<int>(x.cols());
   const int offset = slots_[cloth_].offsets.vertex;
@@ -358,7 +410,7 @@ double BarrierContact::max_step(const Positions& x, const Positions& dx) {
   const int solids = static_cast<int>(solid_pairs_.size());
 #pragma omp parallel for schedule(static) reduction(min : alpha) if (solids > 256)
   for (int i = 0; i < solids; ++i) alpha = std::min(alpha, advance(solid_pairs_[i], x, dx));
-  return alpha;
+  return std::min(alpha, advance_balls(x, dx));
 }
 
 double BarrierContact::begin_step(const Positions& x_start, const Positions& predictor, double h) {

@@ -34,14 +34,34 @@ struct BarrierSettings {
   double slip_speed = 1e-2;      // m/s: friction's smoothing eps is this times h
   // Analytic colliders (plane, sphere, box, capsule, cylinder) by their signed distance, one
   // contact a cloth vertex (fewer pairs than their triangle meshes give), instead of as meshes.
-  // Vertices only: a cloth triangle may still cut a sharp collider edge or the collider's
-  // drawn mesh, which the exact intersection check counts; off by default.
+  // Spheres as balls that hold their drawn mesh (BarrierBall: no cloth triangle reaches the
+  // mesh); the other shapes by their vertices only, so a cloth triangle may still cut a sharp
+  // collider edge or the drawn mesh, which the exact intersection check counts. Off by default.
   bool analytic_colliders = false;
   double min_separation = 0.1;  // a step along a Newton direction keeps each pair at least this
                                 // share of its distance at the step's start
   // The candidate boxes' widening around each cloth vertex's segment, over the contact radius:
   // wider boxes list more pairs to evaluate but are left less often.
   double reuse_margin_ratio = 0.5;
+};
+
+// A static ball that every cloth triangle keeps out of: a sphere collider as the barrier sees it.
+// Its radius R is the sphere's drawn mesh's largest vertex distance from the centre, so the ball
+// holds the drawn mesh (the convex hull of those vertices) and a triangle outside the ball is
+// outside the mesh: no pair of the exact check can form. The energy is on the cloth's vertices,
+// one pair each, their distance from the centre against vertex_radius = sqrt(R^2 + rho^2). At a
+// point p = sum_k w_k x_k of a triangle, |p - c|^2 = sum_k w_k |x_k - c|^2 - sum_k w_k |x_k - p|^2,
+// and the last sum is at most the squared radius rho_T of the smallest circle holding the
+// triangle, so a triangle with rho_T <= rho whose corners are outside vertex_radius is outside
+// the ball. A vertex's distance curves as 1 / distance, which Newton's Gauss-Newton contact blocks
+// may leave out; a triangle's distance from the centre curves as the centre's distance over the
+// triangle's size squared, which they may not (Newton then halves its steps). The triangles' own
+// distances still bound every step, for a triangle stretched past rho.
+struct BarrierBall {
+  Vec3 center = Vec3::Zero();
+  double radius = 0.0;         // R, m
+  double vertex_radius = 0.0;  // m, at least R
+  double friction = 0.0;       // Coulomb coefficient
 };
 
 // One mesh as the barrier sees it: a cloth or a static collider surface.
@@ -58,11 +78,12 @@ class BarrierContact : public SolveContact {
  public:
   BarrierSettings settings;
 
-  // Registers the meshes, cloths first (their positions are read in prepare_cloth), and the
-  // colliders of analytic shape (plane, sphere, box, capsule, cylinder), whose contact is each
-  // cloth vertex against the collider's signed distance (collision/collider.hpp); mesh colliders
-  // come as meshes. Allocates.
-  void set_meshes(const std::vector<BarrierMesh>& meshes, const std::vector<Collider>& analytic = {});
+  // Registers the meshes, cloths first (their positions are read in prepare_cloth), the
+  // colliders of analytic shape (plane, box, capsule, cylinder), whose contact is each cloth
+  // vertex against the collider's signed distance (collision/collider.hpp), and the balls (each
+  // also a sphere of its vertex radius among those); mesh colliders come as meshes. Allocates.
+  void set_meshes(const std::vector<BarrierMesh>& meshes, const std::vector<Collider>& analytic = {},
+                  const std::vector<BarrierBall>& balls = {});
   int num_meshes() const { return static_cast<int>(slots_.size()); }
   // Before cloth `cloth`'s solve: every cloth's current positions (the others stay there during
   // it) and their positions at the step's start (the others' friction displacement), and the
@@ -136,6 +157,8 @@ class BarrierContact : public SolveContact {
   };
   PairAdvance advance(const Stencil& stencil) const;
   double advance(const SolidPair& pair, const Positions& x, const Positions& dx) const;
+  // The share of x -> x + dx along which every cloth triangle keeps out of every ball.
+  double advance_balls(const Positions& x, const Positions& dx);
   double contact_radius() const;  // the largest pair radius
   int local(int combined) const;  // local index in the solving cloth, or -1
 
@@ -144,6 +167,9 @@ class BarrierContact : public SolveContact {
   std::vector<SolidPair> solid_pairs_;  // max_step's vertex-collider pairs
   std::vector<double> solid_distance_;  // evaluate()'s scratch, per solid pair
   std::vector<Vec3> solid_normal_;
+  std::vector<BarrierBall> balls_;
+  std::vector<int> ball_colliders_;             // each ball's vertex collider in analytic_
+  const Triangles* cloth_triangles_ = nullptr;  // the solving cloth's
   int num_cloths_ = 0;
   int cloth_ = -1;                // the solving cloth
   Eigen::VectorXd inverse_mass_;  // the solving cloth's

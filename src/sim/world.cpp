@@ -1,5 +1,7 @@
 #include "sim/world.hpp"
 
+#include <array>
+
 #include <omp.h>
 
 #include <Eigen/Core>
@@ -18,6 +20,28 @@
 #include "physics/symplectic_euler.hpp"
 
 namespace weft {
+
+namespace {
+
+// The largest over the triangles of the radius of the smallest circle holding the triangle: half
+// the longest edge where the angle facing it is right or obtuse, else the circumradius
+// |a||b||a - b| / (2 |a x b|) (a, b the edges from one corner).
+double largest_enclosing_radius(const Triangles& triangles, const Positions& x) {
+  double largest = 0.0;
+  for (int t = 0; t < triangles.cols(); ++t) {
+    const Vec3 p = x.col(triangles(0, t));
+    const Vec3 a = x.col(triangles(1, t)) - p, b = x.col(triangles(2, t)) - p;
+    std::array<double, 3> squared = {a.squaredNorm(), b.squaredNorm(), (a - b).squaredNorm()};
+    std::sort(squared.begin(), squared.end());
+    const double radius = squared[2] >= squared[0] + squared[1]
+                              ? 0.5 * std::sqrt(squared[2])
+                              : std::sqrt(squared[0] * squared[1] * squared[2]) / (2.0 * a.cross(b).norm());
+    largest = std::max(largest, radius);
+  }
+  return largest;
+}
+
+}  // namespace
 
 void World::add_cloth(Cloth cloth, ContactMaterial material) {
   external_forces_.push_back(Positions::Zero(3, cloth.num_vertices()));
@@ -293,7 +317,29 @@ void World::prepare_barrier() {
                         materials_[c].kinetic_friction, materials_[c].self_collision, true});
     }
     std::vector<Collider> analytic;
+    std::vector<BarrierBall> balls;
+    // Room for every cloth triangle's enclosing radius to grow by half (the balls' vertex radius).
+    double rho = 0.0;
+    for (const Cloth& cloth : cloths_)
+      rho = std::max(rho, largest_enclosing_radius(cloth.model.triangles, cloth.state.x));
+    rho *= 1.5;
     for (size_t k = 0; k < colliders_.size(); ++k) {
+      // An analytic sphere is a ball (sim/barrier_contact.hpp) unless a cloth vertex starts within
+      // its vertex radius (a cloth held inside, or laid on it): its mesh's pairs then hold from there.
+      if (settings.collision.barrier.analytic_colliders && colliders_[k].shape == ColliderShape::sphere) {
+        const Vec3 center = colliders_[k].center;
+        const double radius =
+            (collider_positions(static_cast<int>(k)).colwise() - center).colwise().norm().maxCoeff();
+        const double vertex_radius = std::sqrt(radius * radius + rho * rho);
+        bool near = false;
+        for (const Cloth& cloth : cloths_) {
+          near = near || ((cloth.state.x.colwise() - center).colwise().norm().array() < vertex_radius).any();
+        }
+        if (!near) {
+          balls.push_back({center, radius, vertex_radius, colliders_[k].friction});
+          continue;
+        }
+      }
       if (settings.collision.barrier.analytic_colliders && colliders_[k].shape != ColliderShape::mesh) {
         analytic.push_back(colliders_[k]);
         continue;
@@ -301,7 +347,7 @@ void World::prepare_barrier() {
       meshes.push_back({collider_surfaces_[k].triangles, collider_positions(static_cast<int>(k)), 0.0,
                         colliders_[k].friction, false, false});
     }
-    barrier_.set_meshes(meshes, analytic);
+    barrier_.set_meshes(meshes, analytic, balls);
     barrier_meshes_stale_ = false;
   }
   step_start_.resize(cloths_.size());

@@ -124,9 +124,7 @@ HistoryRange SimulationWorker::history() const {
 std::shared_ptr<const Checkpoint> SimulationWorker::history_frame(int frame) const {
   std::lock_guard<std::mutex> lock(mutex_);
   if (history_.empty() || frame < history_.front()->frame || frame > history_.back()->frame) return nullptr;
-  const std::shared_ptr<const Checkpoint>& kept =
-      history_[static_cast<size_t>(frame - history_.front()->frame)];
-  return kept->frame == frame ? kept : nullptr;
+  return history_[static_cast<size_t>(frame - history_.front()->frame)];
 }
 
 void SimulationWorker::resume_from(int frame) {

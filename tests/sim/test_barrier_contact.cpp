@@ -1,7 +1,8 @@
 // Contact inside the solve (collision.response "barrier", sim/barrier_contact.hpp): the contact
 // energy's gradient against finite differences (barrier over vertex-face, edge-edge and
 // analytic-collider pairs, and lagged friction), its Hessian blocks positive semidefinite, the
-// step bound keeping a vertex from passing through a triangle, and whole scenes judged by the
+// step bound keeping a vertex from passing through a triangle and a triangle from entering a
+// ball (an analytic sphere), and whole scenes judged by the
 // exact intersection check written apart from the collision code (tests/support/scene_invariants.hpp).
 #include <gtest/gtest.h>
 
@@ -129,6 +130,36 @@ TEST(BarrierContact, NoStepCarriesAVertexThroughATriangle) {
   EXPECT_LT(closest_end, 0.5 * closest_start);  // and it did go most of the way
 }
 
+TEST(BarrierContact, NoStepCarriesATriangleIntoABall) {
+  // One triangle 1 m across, its corners outside the ball's vertex radius, its middle 1 cm over
+  // the ball (R = 0.1 m, vertex radius 0.5 m): its corners keep out of the vertex radius, which
+  // alone would let a 3 cm drop through, so the triangle's own distance bounds the step.
+  Triangles triangle(3, 1);
+  triangle << 0, 1, 2;
+  Positions x(3, 3);
+  const double h = 0.11;
+  x.col(0) = Vec3(0.6, h, 0.0);
+  x.col(1) = Vec3(-0.3, h, 0.52);
+  x.col(2) = Vec3(-0.3, h, -0.52);
+  BarrierContact contact;
+  contact.settings.contact_radius = 5e-3;
+  contact.settings.analytic_colliders = true;
+  contact.set_meshes({{triangle, x, 0.005, 0.0, false, true}}, {}, {{Vec3::Zero(), 0.1, 0.5, 0.0}});
+  const Eigen::VectorXd inverse_mass = Eigen::VectorXd::Constant(3, 1.0 / 2e-4);
+  contact.prepare_cloth(0, {&x}, {&x}, inverse_mass, 2e-4);
+  Positions dx = Positions::Zero(3, 3);
+  dx.row(1).setConstant(-0.03);
+  contact.begin_step(x, Positions::Zero(3, 3), 1.0 / 120.0);
+  const double alpha = contact.max_step(x, dx);
+  ASSERT_LT(alpha, 1.0);
+  const Positions end = x + alpha * dx;
+  const double gap_start = point_triangle_closest(Vec3::Zero(), x.col(0), x.col(1), x.col(2)).distance - 0.1;
+  const double gap_end =
+      point_triangle_closest(Vec3::Zero(), end.col(0), end.col(1), end.col(2)).distance - 0.1;
+  EXPECT_GE(gap_end, 0.1 * gap_start * (1 - 1e-9));
+  EXPECT_LT(gap_end, 0.5 * gap_start);  // and it did go most of the way
+}
+
 struct BarrierRun {
   bool clean = true;
   testing::InvariantReport failure;
@@ -201,6 +232,22 @@ TEST(BarrierResponse, DrapeStaysCleanConvergedAndBudgeted) {
                   15);
   expect_clean(run);
   EXPECT_EQ(run.unconverged_steps, 0);
+  EXPECT_GT(run.steps_with_contacts, 20);
+  EXPECT_LT(run.largest_budget_error, 0.01);
+}
+
+TEST(BarrierResponse, AnalyticSphereKeepsTheDrapeOffItsDrawnMesh) {
+  // The drawn sphere is a mesh circumscribing the exact one. Against the exact sphere by vertex
+  // the cloth's triangles cut the drawn mesh's corners; against the ball holding the mesh, with
+  // the vertices kept out of the radius that keeps the triangles out of the ball, none does.
+  const BarrierRun run =
+      run_barrier("drape_sphere",
+                  {"cloths.0.grid.resolution=[16,16]", "cloths.0.transform.translation=[0,0.65,0]",
+                   "solver.time_step=0.011111111111111112", "solver.newton.max_iterations=200",
+                   "collision.analytic_colliders=true"},
+                  15);
+  expect_clean(run);
+  EXPECT_EQ(run.frames, 15);
   EXPECT_GT(run.steps_with_contacts, 20);
   EXPECT_LT(run.largest_budget_error, 0.01);
 }
