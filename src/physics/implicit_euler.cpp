@@ -266,8 +266,13 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
   int diverging = 0;
   double best_value = value;
   double cg_tolerance = std::max(settings.cg_tolerance, settings.cg_initial_tolerance);
-  bool use_tail = tail_supported_ && (penalty_ == nullptr || !penalty_->coupled()) && contact_ == nullptr &&
-                  !exact_first && settings.restricted_tail_share > 0.0;
+  bool use_tail = tail_supported_ && (penalty_ == nullptr || !penalty_->coupled()) && !exact_first &&
+                  settings.restricted_tail_share > 0.0;
+  // A step whose tail runs keep ending above the best residual so far is stalled where the tail
+  // cannot help (a global iteration cut to a sliver of its step, then the tail's region undone by
+  // the next): after this many such runs in a row the step goes on without the tail.
+  constexpr int tail_runs_without_progress = 3;
+  int tail_runs_behind = 0;
   NewtonTailSettings tail_settings;
   tail_settings.tolerance = settings.newton_tolerance;
   tail_settings.largest_share = settings.restricted_tail_share;
@@ -391,11 +396,13 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
     report_.residual = newton_residual(gradient_, model.inverse_mass, h);
     report_.converged = report_.residual < settings.newton_tolerance && pins_on_target();
     int restricted = 0;
-    if (use_tail && !report_.converged) {
+    // (With contact, only once every pin is on its target: the tail moves free vertices alone.)
+    if (use_tail && !report_.converged && pins_on_target()) {
       // The residual left on a few vertices: iterations on their region, then the whole cloth's
       // gradient again, so that the residual judged is the cloth's.
-      restricted = tail_.iterate(model, gravity, h, x_start_, x_hat_, penalty_, tail_settings, hessian_,
-                                 stencils_, x, gradient_);
+      restricted =
+          tail_.iterate(model, gravity, h, x_start_, x_hat_, penalty_, contact_, tail_settings, hessian_,
+                        stencils_, x, gradient_, contact_ != nullptr ? &contact_gradient_ : nullptr);
       use_tail = use_tail && !tail_.collapsed();  // the rest of the step iterates on the whole cloth
       if (restricted > 0) {
         report_.newton_iterations += restricted;
@@ -404,7 +411,9 @@ const NewtonReport& ImplicitEulerSolver::step(Cloth& cloth, const Vec3& gravity,
             incremental_potential(model, gravity, x, h, &gradient_, /*assemble=*/false, /*project=*/false);
         assembled = false;
         report_.residual = newton_residual(gradient_, model.inverse_mass, h);
-        report_.converged = report_.residual < settings.newton_tolerance;
+        report_.converged = report_.residual < settings.newton_tolerance && pins_on_target();
+        tail_runs_behind = report_.residual < best_residual ? 0 : tail_runs_behind + 1;
+        if (tail_runs_behind >= tail_runs_without_progress) use_tail = false;
       }
     }
     record_iteration(alpha, report_.linear_iterations - linear_before, restricted);

@@ -70,6 +70,10 @@ void NewtonTail::prepare(const ClothModel& model) {
   for (Eigen::VectorXd* v : {&region_gradient_, &dx_, &r_, &z_, &p_, &q_}) v->setZero(3 * n);
   inverse_blocks_.assign(n, Mat3::Identity());
   saved_.setZero(3, n);
+  step_.setZero(3, n);
+  partial_gradient_.setZero(3, n);
+  new_partial_gradient_.setZero(3, n);
+  moving_.assign(n, 0);
 }
 
 int NewtonTail::collect_region(const ClothModel& model, double h, double tolerance, double largest,
@@ -80,7 +84,10 @@ int NewtonTail::collect_region(const ClothModel& model, double h, double toleran
   for (int i = 0; i < num_vertices_; ++i) above += is_above(i) ? 1 : 0;
   if (above == 0 || above > largest) return above;
 
-  for (const int v : region_) local_[v] = -1;
+  for (const int v : region_) {
+    local_[v] = -1;
+    moving_[v] = 0;
+  }
   for (const int v : touched_) touched_mark_[v] = 0;
   for (const int t : region_triangles_) triangle_mark_[t] = 0;
   for (const int e : region_hinges_) hinge_mark_[e] = 0;
@@ -91,6 +98,7 @@ int NewtonTail::collect_region(const ClothModel& model, double h, double toleran
   const auto add = [&](int v) {
     if (local_[v] < 0 && model.inverse_mass[v] > 0.0) {
       local_[v] = static_cast<int>(region_.size());
+      moving_[v] = 1;
       region_.push_back(v);
     }
   };
@@ -164,6 +172,8 @@ void NewtonTail::assemble_region(const ClothModel& model, double h, const Positi
     if (stencils.hinges < 0) break;  // the hinges' Hessian is left out of the matrix
     bending_element_energy(model.bending, e, x, nullptr, &hessian, stencils.hinges, /*project=*/true);
   }
+  coupling_.clear();
+  if (contact_ != nullptr) add_contact_blocks(hessian);
   const double damping = model.mass_damping > 0.0 ? model.mass_damping / h : 0.0;
   for (size_t k = 0; k < region_.size(); ++k) {
     const int i = region_[k];
@@ -171,6 +181,29 @@ void NewtonTail::assemble_region(const ClothModel& model, double h, const Positi
     if (penalty_ != nullptr) penalty_->vertex_energy(i, x, nullptr, &block);
     hessian.add_vertex_block(i, block);
     inverse_blocks_[k] = hessian.diagonal_block(i).inverse();
+  }
+}
+
+void NewtonTail::add_contact_blocks(SparseHessian& hessian) {
+  const ContactBlocks& blocks = contact_blocks_;
+  for (size_t c = 0; c < blocks.blocks.size(); ++c) {
+    const std::array<int, 4>& vertices = blocks.vertices[c];
+    const std::array<double, 4>& weights = blocks.weights[c];
+    for (int j = 0; j < 4; ++j) {
+      const int a = vertices[j] >= 0 ? local_[vertices[j]] : -1;
+      if (a < 0 || weights[j] == 0.0) continue;
+      hessian.add_vertex_block(vertices[j], (weights[j] * weights[j]) * blocks.blocks[c]);
+      for (int k = j + 1; k < 4; ++k) {
+        const int b = vertices[k] >= 0 ? local_[vertices[k]] : -1;
+        if (b < 0 || weights[k] == 0.0) continue;
+        const Mat3 block = (weights[j] * weights[k]) * blocks.blocks[c];
+        if (a == b) {
+          hessian.add_vertex_block(vertices[j], 2.0 * block);
+        } else {
+          coupling_.push_back({a, b, block});
+        }
+      }
+    }
   }
 }
 
@@ -195,6 +228,21 @@ Vec3 NewtonTail::vertex_gradient(const ClothModel& model, const Vec3& gravity, d
     g += element.segment<3>(3 * corner_of<4>(model.bending.hinges, e, i));
   }
   return g;
+}
+
+void NewtonTail::update_contact_gradient(const ClothModel& model, const Positions& x, Positions& gradient,
+                                         Positions& contact_gradient) {
+  // Only the contacts with a region vertex change: their part now, against their part before.
+  new_partial_gradient_.setZero();
+  contact_->evaluate_moving(x, moving_, &new_partial_gradient_, nullptr);
+  for (int i = 0; i < num_vertices_; ++i) {
+    const Vec3 change = new_partial_gradient_.col(i) - partial_gradient_.col(i);
+    contact_gradient.col(i) += change;
+    if (model.inverse_mass[i] == 0.0) continue;
+    // update_gradient() left the touched vertices without contact: they take it whole.
+    gradient.col(i) += touched_mark_[i] ? Vec3(contact_gradient.col(i)) : change;
+  }
+  partial_gradient_.swap(new_partial_gradient_);
 }
 
 void NewtonTail::update_gradient(const ClothModel& model, const Vec3& gravity, double h,
@@ -231,6 +279,10 @@ bool NewtonTail::solve(const ClothModel& model, double h, const SparseHessian& h
   double rz = r.dot(z);
   for (int iteration = 0; iteration < settings.max_cg_iterations && r.norm() > threshold; ++iteration) {
     hessian.multiply_region(region_, local_, p_, q_);
+    for (const Coupling& c : coupling_) {
+      q.segment<3>(3 * c.a) += c.block * p.segment<3>(3 * c.b);
+      q.segment<3>(3 * c.b) += c.block * p.segment<3>(3 * c.a);
+    }
     const double curvature = p.dot(q);
     if (!(curvature > 0.0)) break;
     const double alpha = rz / curvature;
@@ -245,10 +297,12 @@ bool NewtonTail::solve(const ClothModel& model, double h, const SparseHessian& h
 }
 
 int NewtonTail::iterate(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
-                        const Positions& x_hat, const ContactPenalty* penalty,
+                        const Positions& x_hat, const ContactPenalty* penalty, SolveContact* contact,
                         const NewtonTailSettings& settings, SparseHessian& hessian,
-                        const HessianStencils& stencils, Positions& x, Positions& gradient) {
+                        const HessianStencils& stencils, Positions& x, Positions& gradient,
+                        Positions* contact_gradient) {
   penalty_ = penalty != nullptr && penalty->active() ? penalty : nullptr;
+  contact_ = contact_gradient != nullptr ? contact : nullptr;
   collapsed_ = false;
   int free_vertices = 0;
   for (int i = 0; i < num_vertices_; ++i) free_vertices += model.inverse_mass[i] > 0.0;
@@ -257,19 +311,35 @@ int NewtonTail::iterate(const ClothModel& model, const Vec3& gravity, double h, 
   while (iterations < settings.max_iterations) {
     const int above = collect_region(model, h, settings.tolerance, largest, gradient);
     if (above == 0 || above > largest) break;
+    // The contact's energy at x and its blocks there (the pairs of the last segment, which holds x).
+    double contact_before = 0.0;
+    if (contact_ != nullptr) {
+      partial_gradient_.setZero();
+      contact_before = contact_->evaluate_moving(x, moving_, &partial_gradient_, &contact_blocks_);
+    }
     assemble_region(model, h, x, hessian, stencils);
     for (size_t k = 0; k < region_.size(); ++k) region_gradient_.segment<3>(3 * k) = gradient.col(region_[k]);
     if (!solve(model, h, hessian, settings)) break;
     const Eigen::Index size = 3 * static_cast<Eigen::Index>(region_.size());
     const double slope = region_gradient_.head(size).dot(dx_.head(size));
     if (!(slope < 0.0)) break;
-    const double before = region_potential(model, gravity, h, x_start, x_hat, x);
+    // No trial goes past the step along which every pair keeps apart.
+    double alpha = 1.0;
+    if (contact_ != nullptr) {
+      for (size_t k = 0; k < region_.size(); ++k) step_.col(region_[k]) = dx_.segment<3>(3 * k);
+      alpha = contact_->max_step(x, step_);
+      for (const int i : region_) step_.col(i).setZero();
+    }
+    const double before = region_potential(model, gravity, h, x_start, x_hat, x) + contact_before;
     for (const int i : region_) saved_.col(i) = x.col(i);
     bool accepted = false;
-    for (double alpha = 1.0; alpha > 1e-4; alpha *= 0.5) {
+    for (; alpha > 1e-4; alpha *= 0.5) {
       for (size_t k = 0; k < region_.size(); ++k)
         x.col(region_[k]) = saved_.col(region_[k]) + alpha * dx_.segment<3>(3 * k);
-      if (region_potential(model, gravity, h, x_start, x_hat, x) <= before + 1e-4 * alpha * slope) {
+      const double trial =
+          region_potential(model, gravity, h, x_start, x_hat, x) +
+          (contact_ != nullptr ? contact_->evaluate_moving(x, moving_, nullptr, nullptr) : 0.0);
+      if (trial <= before + 1e-4 * alpha * slope) {  // false for NaN
         accepted = true;
         break;
       }
@@ -282,14 +352,17 @@ int NewtonTail::iterate(const ClothModel& model, const Vec3& gravity, double h, 
     // towards zero height (its gradient grows as 1 / height): undone, and the tail stops.
     const double worst_before = worst_residual(model, h, gradient);
     update_gradient(model, gravity, h, x_start, x_hat, x, gradient);
+    if (contact_ != nullptr) update_contact_gradient(model, x, gradient, *contact_gradient);
     if (worst_residual(model, h, gradient) > diverging_factor * worst_before) {
       for (const int i : region_) x.col(i) = saved_.col(i);
       update_gradient(model, gravity, h, x_start, x_hat, x, gradient);
+      if (contact_ != nullptr) update_contact_gradient(model, x, gradient, *contact_gradient);
       collapsed_ = true;
       break;
     }
     ++iterations;
   }
+  contact_ = nullptr;
   return iterations;
 }
 

@@ -14,13 +14,19 @@
 // always the whole cloth's.
 //
 // Terms: the membrane, hinges (dihedral: Gauss-Newton Hessian; quadratic: its constant exact
-// one), gravity, the inertia and Rayleigh mass damping, and contact penalties that hold one
-// vertex each (collider contacts). supports() says whether a model holds only those.
+// one), gravity, the inertia and Rayleigh mass damping, contact penalties that hold one vertex
+// each (collider contacts), and contact inside the solve (physics/solve_contact.hpp). With the
+// latter, each iteration's matrix takes the contact blocks among the region's vertices, its line
+// search starts at the step the contact allows along the region's move (every pair stays apart)
+// and sees the energy of the contacts with a region vertex (the others do not change), and the
+// gradient follows those contacts onto every vertex they join, in the region or not. supports() says whether
+// a model's terms are those.
 #include <vector>
 
 #include "physics/cloth.hpp"
 #include "physics/cloth_terms.hpp"
 #include "physics/contact_penalty.hpp"
+#include "physics/solve_contact.hpp"
 #include "physics/sparse_hessian.hpp"
 
 namespace weft {
@@ -47,29 +53,41 @@ class NewtonTail {
   // its stencils: the region's rows are overwritten (the caller assembles afresh after).
   // Returns the iterations taken (0: not started); collapsed() then says whether it stopped on a
   // step that raised the residual a hundredfold (undone).
-  // `penalty` (or null) must not be coupled().
+  // `penalty` (or null) must not be coupled(). `contact` (or null) is the step's contact, its
+  // last max_step() along a segment that holds x; `contact_gradient` is then its gradient at x
+  // (unmasked, part of `gradient`), kept current.
   int iterate(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
-              const Positions& x_hat, const ContactPenalty* penalty, const NewtonTailSettings& settings,
-              SparseHessian& hessian, const HessianStencils& stencils, Positions& x, Positions& gradient);
+              const Positions& x_hat, const ContactPenalty* penalty, SolveContact* contact,
+              const NewtonTailSettings& settings, SparseHessian& hessian, const HessianStencils& stencils,
+              Positions& x, Positions& gradient, Positions* contact_gradient);
 
  private:
   // Counts the vertices above the tolerance and returns the count; when it is within (0, largest],
   // collects the region (those vertices plus neighbours, free only) and the elements that touch it.
-  int collect_region(const ClothModel& model, double h, double tolerance, double largest, const Positions& gradient);
+  int collect_region(const ClothModel& model, double h, double tolerance, double largest,
+                     const Positions& gradient);
   // The largest residual h |g_i| / m_i over the vertices the region's elements touch.
   double worst_residual(const ClothModel& model, double h, const Positions& gradient) const;
   // The part of the incremental potential that the region's vertices enter.
   double region_potential(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
                           const Positions& x_hat, const Positions& x) const;
   // The Hessian's block rows of the region at x (projected membrane, Gauss-Newton hinges, inertia
-  // and damping) and the inverses of their diagonal blocks.
+  // and damping, and the contact's blocks among the region's vertices: those on the diagonal in
+  // the matrix, the others in coupling_) and the inverses of their diagonal blocks.
   void assemble_region(const ClothModel& model, double h, const Positions& x, SparseHessian& hessian,
                        const HessianStencils& stencils);
   // Recomputes the gradient of every vertex of the region's elements.
   void update_gradient(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
                        const Positions& x_hat, const Positions& x, Positions& gradient);
+  // With contact: the change of the region's contacts' gradient since partial_gradient_ joins
+  // contact_gradient and `gradient` (the touched vertices, just recomputed without contact, take
+  // contact_gradient whole); partial_gradient_ is then x's.
+  void update_contact_gradient(const ClothModel& model, const Positions& x, Positions& gradient,
+                               Positions& contact_gradient);
   Vec3 vertex_gradient(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
                        const Positions& x_hat, const Positions& x, int i) const;
+  // The contact's blocks (contact_blocks_) on the region's diagonal and in coupling_.
+  void add_contact_blocks(SparseHessian& hessian);
   // Region CG on the assembled rows; dx_ gets the step. Returns false if no descent direction.
   bool solve(const ClothModel& model, double h, const SparseHessian& hessian,
              const NewtonTailSettings& settings);
@@ -86,6 +104,20 @@ class NewtonTail {
   std::vector<Mat3> inverse_blocks_;
   Positions saved_;  // the region's positions before a line search (3 x n, region columns used)
   const ContactPenalty* penalty_ = nullptr;  // iterate's, while it runs
+  SolveContact* contact_ = nullptr;          // iterate's, while it runs
+  // The contact's blocks at the region's iterate, and those joining two region vertices
+  // (local indices, the block w_j w_k K): off the diagonal, in the region CG's product.
+  struct Coupling {
+    int a, b;
+    Mat3 block;
+  };
+  ContactBlocks contact_blocks_;
+  std::vector<Coupling> coupling_;
+  Positions step_;  // the region's move as a whole-cloth segment (3 x n, zero outside)
+  // The contact's gradient from the contacts with a region vertex (evaluate_moving) at the
+  // current iterate, and at the next.
+  Positions partial_gradient_, new_partial_gradient_;
+  std::vector<char> moving_;  // 1 for the region's vertices
   bool collapsed_ = false;
 };
 

@@ -68,6 +68,11 @@ class SolveContact {
   // The contact energy at a point of the last max_step's segment; adds its gradient (when not
   // null) and its Hessian blocks (when not null; cleared first).
   virtual double evaluate(const Positions& x, Positions* gradient, ContactBlocks* blocks) = 0;
+  // evaluate()'s part from the contacts with a cloth vertex where `moving` is nonzero (one entry
+  // per cloth vertex): where only those vertices move, the rest of the energy stays as it is.
+  // Leaves last_potential() and report() alone.
+  virtual double evaluate_moving(const Positions& x, const std::vector<char>& moving, Positions* gradient,
+                                 ContactBlocks* blocks) = 0;
   // The energy that is potential (the barrier; friction is dissipation) at the last evaluate().
   virtual double last_potential() const = 0;
   virtual const SolveContactReport& report() const = 0;

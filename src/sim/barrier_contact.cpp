@@ -462,16 +462,43 @@ double BarrierContact::begin_step(const Positions& x_start, const Positions& pre
 }
 
 double BarrierContact::evaluate(const Positions& x, Positions* gradient, ContactBlocks* blocks) {
+  const double value = evaluate_contacts(x, nullptr, gradient, blocks);
+  report_.pairs = pairs_;
+  return value;
+}
+
+double BarrierContact::evaluate_moving(const Positions& x, const std::vector<char>& moving,
+                                       Positions* gradient, ContactBlocks* blocks) {
+  return evaluate_contacts(x, &moving, gradient, blocks);
+}
+
+bool BarrierContact::touches(const std::array<int, 4>& cloth_vertices,
+                             const std::vector<char>* moving) const {
+  if (moving == nullptr) return true;
+  for (const int v : cloth_vertices) {
+    if (v >= 0 && (*moving)[v]) return true;
+  }
+  return false;
+}
+
+double BarrierContact::evaluate_contacts(const Positions& x, const std::vector<char>* moving,
+                                         Positions* gradient, ContactBlocks* blocks) {
   if (blocks != nullptr) blocks->clear();
   const std::vector<Stencil>& stencils = active_;
-  const int count = static_cast<int>(stencils.size());
-  geometry_.resize(stencils.size());
+  selected_.clear();
+  for (int i = 0; i < static_cast<int>(stencils.size()); ++i) {
+    std::array<int, 4> vertices;
+    for (int k = 0; k < 4; ++k) vertices[k] = local(stencils[i].vertices[k]);
+    if (touches(vertices, moving)) selected_.push_back(i);
+  }
+  const int count = static_cast<int>(selected_.size());
+  geometry_.resize(selected_.size());
 #pragma omp parallel for schedule(static) if (count > 256)
-  for (int i = 0; i < count; ++i) geometry_[i] = geometry(stencils[i], x);
+  for (int i = 0; i < count; ++i) geometry_[i] = geometry(stencils[selected_[i]], x);
   double barrier = 0.0;
   int pairs = 0;
   for (int i = 0; i < count; ++i) {
-    const Stencil& s = stencils[i];
+    const Stencil& s = stencils[selected_[i]];
     const PairGeometry& g = geometry_[i];
     const double radius = pair_radius(s);
     if (!(g.distance < radius)) continue;
@@ -493,13 +520,17 @@ double BarrierContact::evaluate(const Positions& x, Positions* gradient, Contact
     }
   }
   // Cloth vertices against analytic colliders: one vertex each, so diagonal blocks only.
-  const int solids = static_cast<int>(solid_pairs_.size());
-  solid_distance_.resize(solid_pairs_.size());
-  solid_normal_.resize(solid_pairs_.size());
+  selected_solids_.clear();
+  for (int i = 0; i < static_cast<int>(solid_pairs_.size()); ++i) {
+    if (moving == nullptr || (*moving)[solid_pairs_[i].vertex]) selected_solids_.push_back(i);
+  }
+  const int solids = static_cast<int>(selected_solids_.size());
+  solid_distance_.resize(selected_solids_.size());
+  solid_normal_.resize(selected_solids_.size());
 #pragma omp parallel for schedule(static) if (solids > 256)
   for (int i = 0; i < solids; ++i) {
-    solid_distance_[i] =
-        signed_distance(analytic_[solid_pairs_[i].collider], x.col(solid_pairs_[i].vertex), solid_normal_[i]);
+    const SolidPair& pair = solid_pairs_[selected_solids_[i]];
+    solid_distance_[i] = signed_distance(analytic_[pair.collider], x.col(pair.vertex), solid_normal_[i]);
   }
   const double radius = contact_radius();
   for (int i = 0; i < solids; ++i) {
@@ -508,7 +539,7 @@ double BarrierContact::evaluate(const Positions& x, Positions* gradient, Contact
     if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
     const BarrierValue b = log_barrier(d, radius);
     const Vec3& normal = solid_normal_[i];
-    const int v = solid_pairs_[i].vertex;
+    const int v = solid_pairs_[selected_solids_[i]].vertex;
     barrier += kappa_ * b.value;
     ++pairs;
     if (gradient != nullptr) gradient->col(v) += (kappa_ * b.first) * normal;
@@ -518,11 +549,12 @@ double BarrierContact::evaluate(const Positions& x, Positions* gradient, Contact
       blocks->blocks.push_back((kappa_ * b.second) * normal * normal.transpose());
     }
   }
-  last_potential_ = barrier;
-  report_.pairs = pairs;
+  if (moving == nullptr) last_potential_ = barrier;
+  pairs_ = pairs;
   // Lagged friction: mu lambda f0(|u|) on the tangential displacement u since the step's start.
   double friction = 0.0;
   for (const FrictionPair& f : friction_) {
+    if (!touches(f.vertices, moving)) continue;
     Vec3 slip = f.fixed_slip;
     for (int k = 0; k < 4; ++k) {
       const int v = f.vertices[k];

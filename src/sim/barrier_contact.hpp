@@ -95,6 +95,8 @@ class BarrierContact : public SolveContact {
   double begin_step(const Positions& x_start, const Positions& predictor, double h) override;
   double max_step(const Positions& x, const Positions& dx) override;
   double evaluate(const Positions& x, Positions* gradient, ContactBlocks* blocks) override;
+  double evaluate_moving(const Positions& x, const std::vector<char>& moving, Positions* gradient,
+                         ContactBlocks* blocks) override;
   double last_potential() const override { return last_potential_; }
   const SolveContactReport& report() const override { return report_; }
 
@@ -160,6 +162,11 @@ class BarrierContact : public SolveContact {
   // The share of x -> x + dx along which every cloth triangle keeps out of every ball.
   double advance_balls(const Positions& x, const Positions& dx);
   double contact_radius() const;  // the largest pair radius
+  // evaluate() over the contacts with a cloth vertex where `moving` is nonzero (every contact
+  // when null); the energy, without touching last_potential_ or report_.
+  double evaluate_contacts(const Positions& x, const std::vector<char>* moving, Positions* gradient,
+                           ContactBlocks* blocks);
+  bool touches(const std::array<int, 4>& cloth_vertices, const std::vector<char>* moving) const;
   int local(int combined) const;  // local index in the solving cloth, or -1
 
   std::vector<Slot> slots_;
@@ -181,11 +188,14 @@ class BarrierContact : public SolveContact {
   Positions from_, to_, start_;   // combined positions: segment ends, step start (3 x n_vertices)
   BvhQueryBuffers buffers_;
   CollisionCandidates candidates_;
-  std::vector<CandidateCache> caches_;  // per cloth
+  std::vector<CandidateCache> caches_;              // per cloth
   const std::vector<Stencil>* stencils_ = nullptr;  // the solving cloth's cache's
   std::vector<char> near_;                          // max_step's scratch, per stencil
-  std::vector<Stencil> active_;  // the stencils that may come within the radius on the last segment
+  std::vector<Stencil> active_;         // the stencils that may come within the radius on the last segment
   std::vector<PairGeometry> geometry_;  // scratch of evaluate()
+  std::vector<int> selected_;           // evaluate()'s stencils (indices into active_) and solid pairs
+  std::vector<int> selected_solids_;
+  int pairs_ = 0;  // evaluate_contacts()'s pairs within the radius
   std::vector<FrictionPair> friction_;
   Positions x_step_start_;  // the solving cloth's positions at the step's start
   double last_potential_ = 0.0;
