@@ -19,8 +19,8 @@
 // latter, each iteration's matrix takes the contact blocks among the region's vertices, its line
 // search starts at the step the contact allows along the region's move (every pair stays apart)
 // and sees the energy of the contacts with a region vertex (the others do not change), and the
-// gradient follows those contacts onto every vertex they join, in the region or not. supports() says whether
-// a model's terms are those.
+// gradient follows those contacts onto every vertex they join, in the region or not. supports()
+// says whether a model's terms are those.
 #include <vector>
 
 #include "physics/cloth.hpp"

@@ -462,34 +462,43 @@ double BarrierContact::begin_step(const Positions& x_start, const Positions& pre
 }
 
 double BarrierContact::evaluate(const Positions& x, Positions* gradient, ContactBlocks* blocks) {
-  const double value = evaluate_contacts(x, nullptr, gradient, blocks);
-  report_.pairs = pairs_;
+  ContactSums sums;
+  const double value = evaluate_contacts(x, nullptr, gradient, blocks, sums);
+  if (std::isfinite(value)) {
+    last_potential_ = sums.barrier;
+    report_.pairs = sums.pairs;
+  }
   return value;
 }
 
 double BarrierContact::evaluate_moving(const Positions& x, const std::vector<char>& moving,
                                        Positions* gradient, ContactBlocks* blocks) {
-  return evaluate_contacts(x, &moving, gradient, blocks);
+  ContactSums sums;
+  return evaluate_contacts(x, &moving, gradient, blocks, sums);
 }
 
-bool BarrierContact::touches(const std::array<int, 4>& cloth_vertices,
-                             const std::vector<char>* moving) const {
-  if (moving == nullptr) return true;
-  for (const int v : cloth_vertices) {
-    if (v >= 0 && (*moving)[v]) return true;
+bool BarrierContact::touches(const Stencil& stencil, const std::vector<char>& moving) const {
+  for (const int combined : stencil.vertices) {
+    const int v = local(combined);
+    if (v >= 0 && moving[v]) return true;
+  }
+  return false;
+}
+
+bool BarrierContact::touches(const FrictionPair& pair, const std::vector<char>& moving) {
+  for (const int v : pair.vertices) {
+    if (v >= 0 && moving[v]) return true;
   }
   return false;
 }
 
 double BarrierContact::evaluate_contacts(const Positions& x, const std::vector<char>* moving,
-                                         Positions* gradient, ContactBlocks* blocks) {
+                                         Positions* gradient, ContactBlocks* blocks, ContactSums& sums) {
   if (blocks != nullptr) blocks->clear();
   const std::vector<Stencil>& stencils = active_;
   selected_.clear();
   for (int i = 0; i < static_cast<int>(stencils.size()); ++i) {
-    std::array<int, 4> vertices;
-    for (int k = 0; k < 4; ++k) vertices[k] = local(stencils[i].vertices[k]);
-    if (touches(vertices, moving)) selected_.push_back(i);
+    if (moving == nullptr || touches(stencils[i], *moving)) selected_.push_back(i);
   }
   const int count = static_cast<int>(selected_.size());
   geometry_.resize(selected_.size());
@@ -549,12 +558,12 @@ double BarrierContact::evaluate_contacts(const Positions& x, const std::vector<c
       blocks->blocks.push_back((kappa_ * b.second) * normal * normal.transpose());
     }
   }
-  if (moving == nullptr) last_potential_ = barrier;
-  pairs_ = pairs;
+  sums.barrier = barrier;
+  sums.pairs = pairs;
   // Lagged friction: mu lambda f0(|u|) on the tangential displacement u since the step's start.
   double friction = 0.0;
   for (const FrictionPair& f : friction_) {
-    if (!touches(f.vertices, moving)) continue;
+    if (moving != nullptr && !touches(f, *moving)) continue;
     Vec3 slip = f.fixed_slip;
     for (int k = 0; k < 4; ++k) {
       const int v = f.vertices[k];

@@ -162,11 +162,17 @@ class BarrierContact : public SolveContact {
   // The share of x -> x + dx along which every cloth triangle keeps out of every ball.
   double advance_balls(const Positions& x, const Positions& dx);
   double contact_radius() const;  // the largest pair radius
+  struct ContactSums {
+    double barrier = 0.0;  // the barrier's energy, friction left out
+    int pairs = 0;         // pairs within their radius
+  };
   // evaluate() over the contacts with a cloth vertex where `moving` is nonzero (every contact
-  // when null); the energy, without touching last_potential_ or report_.
+  // when null); the energy (infinite, with sums left unset, where a pair touches).
   double evaluate_contacts(const Positions& x, const std::vector<char>* moving, Positions* gradient,
-                           ContactBlocks* blocks);
-  bool touches(const std::array<int, 4>& cloth_vertices, const std::vector<char>* moving) const;
+                           ContactBlocks* blocks, ContactSums& sums);
+  // Whether a contact has a solving-cloth vertex marked in `moving`.
+  bool touches(const Stencil& stencil, const std::vector<char>& moving) const;
+  static bool touches(const FrictionPair& pair, const std::vector<char>& moving);
   int local(int combined) const;  // local index in the solving cloth, or -1
 
   std::vector<Slot> slots_;
@@ -195,7 +201,6 @@ class BarrierContact : public SolveContact {
   std::vector<PairGeometry> geometry_;  // scratch of evaluate()
   std::vector<int> selected_;           // evaluate()'s stencils (indices into active_) and solid pairs
   std::vector<int> selected_solids_;
-  int pairs_ = 0;  // evaluate_contacts()'s pairs within the radius
   std::vector<FrictionPair> friction_;
   Positions x_step_start_;  // the solving cloth's positions at the step's start
   double last_potential_ = 0.0;

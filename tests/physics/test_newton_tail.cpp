@@ -46,6 +46,17 @@ Cloth swinging_cloth(int steps, const std::string& bending_model = "dihedral") {
   return world.cloths()[0];
 }
 
+// One step of the cloth solved by global Newton iterations to a residual of 1e-9 m/s; whether
+// it converged.
+bool converge_step(Cloth& cloth, const Vec3& gravity, double h) {
+  ImplicitEulerSolver solver;
+  ImplicitEulerSettings tight;
+  tight.newton_tolerance = 1e-9;
+  tight.restricted_tail_share = 0.0;
+  tight.max_newton_iterations = 60;
+  return solver.step(cloth, gravity, h, tight).converged;
+}
+
 // The incremental potential and its pin-masked gradient over every element, as the solver
 // evaluates it.
 double full_potential(const ClothModel& model, const Vec3& gravity, double h, const Positions& x_start,
@@ -75,12 +86,7 @@ TEST_P(NewtonTailForBending, FinishesALocalResidualMovingOnlyItsRegionAndKeepsTh
   // Newton iteration leaves it near the end of a step.
   const Positions x_start = cloth.state.x;
   const Positions x_hat = x_start + h * cloth.state.v;
-  ImplicitEulerSolver solver;
-  ImplicitEulerSettings tight;
-  tight.newton_tolerance = 1e-9;
-  tight.restricted_tail_share = 0.0;
-  tight.max_newton_iterations = 60;
-  ASSERT_TRUE(solver.step(cloth, gravity, h, tight).converged);
+  ASSERT_TRUE(converge_step(cloth, gravity, h));
   Positions x = cloth.state.x;
   const int a = 8 * 16 + 7, b = 8 * 16 + 8;
   x.col(a) += Vec3(0.0, 6e-8, 3e-8);
@@ -187,12 +193,7 @@ TEST(NewtonTail, WithContactKeepsThePartnersGradientExactAndStaysWithinTheContac
   const double tolerance = 1e-4;
   const Positions x_start = cloth.state.x;
   const Positions x_hat = x_start + h * cloth.state.v;
-  ImplicitEulerSolver solver;
-  ImplicitEulerSettings tight;
-  tight.newton_tolerance = 1e-9;
-  tight.restricted_tail_share = 0.0;
-  tight.max_newton_iterations = 60;
-  ASSERT_TRUE(solver.step(cloth, gravity, h, tight).converged);
+  ASSERT_TRUE(converge_step(cloth, gravity, h));
   Positions x = cloth.state.x;
   const Positions converged = x;
 
