@@ -63,8 +63,9 @@ class SolveContact {
   virtual double begin_step(const Positions& x_start, const Positions& predictor, double h) = 0;
   // Finds the pairs that may come within the contact radius along x -> x + dx (they are the
   // ones evaluate() reads until the next call) and returns the largest fraction of dx, in
-  // [0, 1], along which every pair keeps a positive distance.
-  virtual double max_step(const Positions& x, const Positions& dx) = 0;
+  // [0, 1], along which every pair keeps a positive distance. (dx by reference to any 3 x n
+  // block, so that a Newton step held as one vector is passed without a copy.)
+  virtual double max_step(const Positions& x, const Eigen::Ref<const Positions>& dx) = 0;
   // The contact energy at a point of the last max_step's segment; adds its gradient (when not
   // null) and its Hessian blocks (when not null; cleared first).
   virtual double evaluate(const Positions& x, Positions* gradient, ContactBlocks* blocks) = 0;

@@ -269,7 +269,8 @@ BarrierContact::PairAdvance BarrierContact::advance(const Stencil& stencil) cons
 }
 
 // A vertex against a collider's signed distance, which changes at most as fast as the vertex moves.
-double BarrierContact::advance(const SolidPair& pair, const Positions& x, const Positions& dx) const {
+double BarrierContact::advance(const SolidPair& pair, const Positions& x,
+                               const Eigen::Ref<const Positions>& dx) const {
   const Collider& collider = analytic_[pair.collider];
   const Vec3 p = x.col(pair.vertex), q = dx.col(pair.vertex);
   const auto distance = [&](double t) {
@@ -338,7 +339,7 @@ void BarrierContact::search() {
 
 // A triangle's distance from a fixed point changes at most as fast as its fastest vertex moves.
 // Triangles starting inside a ball (placed so: the scene's push-out moves them) bound nothing.
-double BarrierContact::advance_balls(const Positions& x, const Positions& dx) {
+double BarrierContact::advance_balls(const Positions& x, const Eigen::Ref<const Positions>& dx) {
   if (balls_.empty()) return 1.0;
   const Triangles& triangles = *cloth_triangles_;
   const int num_balls = static_cast<int>(balls_.size());
@@ -376,7 +377,7 @@ double BarrierContact::advance_balls(const Positions& x, const Positions& dx) {
   return alpha;
 }
 
-double BarrierContact::max_step(const Positions& x, const Positions& dx) {
+double BarrierContact::max_step(const Positions& x, const Eigen::Ref<const Positions>& dx) {
   const int n = static_cast<int>(x.cols());
   const int offset = slots_[cloth_].offsets.vertex;
   from_.middleCols(offset, n) = x;

@@ -93,7 +93,7 @@ class BarrierContact : public SolveContact {
                      double mean_mass);
 
   double begin_step(const Positions& x_start, const Positions& predictor, double h) override;
-  double max_step(const Positions& x, const Positions& dx) override;
+  double max_step(const Positions& x, const Eigen::Ref<const Positions>& dx) override;
   double evaluate(const Positions& x, Positions* gradient, ContactBlocks* blocks) override;
   double evaluate_moving(const Positions& x, const std::vector<char>& moving, Positions* gradient,
                          ContactBlocks* blocks) override;
@@ -158,9 +158,9 @@ class BarrierContact : public SolveContact {
     bool near;     // may come within the contact radius along the segment
   };
   PairAdvance advance(const Stencil& stencil) const;
-  double advance(const SolidPair& pair, const Positions& x, const Positions& dx) const;
+  double advance(const SolidPair& pair, const Positions& x, const Eigen::Ref<const Positions>& dx) const;
   // The share of x -> x + dx along which every cloth triangle keeps out of every ball.
-  double advance_balls(const Positions& x, const Positions& dx);
+  double advance_balls(const Positions& x, const Eigen::Ref<const Positions>& dx);
   double contact_radius() const;  // the largest pair radius
   struct ContactSums {
     double barrier = 0.0;  // the barrier's energy, friction left out

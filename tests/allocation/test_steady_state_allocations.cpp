@@ -89,6 +89,27 @@ TEST_P(SteadyState, DrapeStepsAllocateNothing) {
 
 INSTANTIATE_TEST_SUITE_P(LinearSolvers, SteadyState, ::testing::Values("conjugate_gradient", "cholesky"));
 
+class SteadyStateBarrier : public ::testing::TestWithParam<bool> {};
+
+TEST_P(SteadyStateBarrier, DrapeStepsWithContactInTheSolveAllocateNothing) {
+  // drape_sphere at 16x16 with the barrier response (self contact, friction with the sphere),
+  // the sphere as its mesh or as a ball: the candidate lists, contact pairs, friction pairs and
+  // the Newton tail's region grow to the largest set they meet, then stay.
+  std::ifstream file(std::string(WEFT_SOURCE_DIR) + "/scenes/drape_sphere.json");
+  nlohmann::json scene = nlohmann::json::parse(file);
+  scene["cloths"][0]["grid"]["resolution"] = {16, 16};
+  scene["cloths"][0]["transform"]["translation"] = {0, 0.52, 0};
+  scene["collision"]["response"] = "barrier";
+  scene["collision"]["strain_limit"] = 0;
+  scene["collision"]["analytic_colliders"] = GetParam();
+  World world = build_world(parse_scene(scene, "drape_sphere.json"));
+  for (int step = 0; step < 240; ++step) world.step();
+  ASSERT_GT(world.last_step_stats().contacts, 0) << "the cloth lies on the sphere";
+  EXPECT_EQ(allocations_in_steps(world, 20), 0) << "heap allocations in 20 steady-state steps";
+}
+
+INSTANTIATE_TEST_SUITE_P(SphereAsMeshOrBall, SteadyStateBarrier, ::testing::Values(false, true));
+
 TEST(SteadyStateSwitch, StepsThatPutTheHingesBackIntoTheMatrixAllocateNothing) {
   // Implicit Euler without the hinges' Hessian in CG's matrix, going on with it from a step's first
   // iteration (hinges_out_of_matrix_iterations 0): every step switches patterns twice (back at its start).

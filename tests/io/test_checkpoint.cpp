@@ -158,7 +158,8 @@ TEST(Checkpoint, EnergyFlowsRoundTripAndAVersionFourFileReadsWithoutTheResidualF
   std::ifstream in(dir.file("v5.bin"), std::ios::binary);
   const std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   constexpr size_t header = 8 + 4 + 4 + 8;  // magic, version, reserved, payload size
-  const std::string payload = file.substr(header, file.size() - header - 8 - 8);  // less the residual and the hash
+  const std::string payload =
+      file.substr(header, file.size() - header - 8 - 8);  // less the residual and the hash
   std::string v4 = file.substr(0, header) + payload;
   const uint32_t version = 4;
   const uint64_t size = payload.size(), hash = checkpoint_checksum(payload);
@@ -233,6 +234,41 @@ TEST(Checkpoint, ColliderContactsInTheSolveContinueBitIdentically) {
   }
   EXPECT_TRUE(resumed.cloths()[0].state.x == original.cloths()[0].state.x);
   EXPECT_TRUE(resumed.cloths()[0].state.v == original.cloths()[0].state.v);
+}
+
+// With contact in the solve the candidate pairs are kept across steps and friction is lagged
+// from each step's start: a resumed world, which searches afresh, must continue bit-identically,
+// the sphere as its mesh and as a ball.
+TEST(Checkpoint, TheBarrierResponseContinuesBitIdentically) {
+  for (const bool ball : {false, true}) {
+    SCOPED_TRACE(ball ? "sphere as a ball" : "sphere as its mesh");
+    TempDir dir("weft_checkpoint_barrier");
+    const auto make = [ball] {
+      nlohmann::json collision = {{"response", "barrier"}, {"strain_limit", 0}, {"analytic_colliders", ball}};
+      nlohmann::json document = nlohmann::json::parse(R"({
+        "solver": {"time_step": 0.004166666666666667, "integrator": "implicit_euler"},
+        "cloths": [{"name": "sheet", "grid": {"size": [1, 1], "resolution": [8, 8]},
+                    "transform": {"translation": [0, 0.32, 0], "rotation_degrees": [-90, 0, 0]},
+                    "friction": {"static": 0.4, "kinetic": 0.3}, "self_collision": true}],
+        "colliders": [{"type": "sphere", "name": "ball", "radius": 0.3, "friction": 0.3}]
+      })");
+      document["collision"] = collision;
+      return build_world(parse_scene(document, "<inline>"));
+    };
+    World original = make();
+    for (int step = 0; step < 60; ++step) original.step();
+    ASSERT_GT(original.last_step_stats().contacts, 0) << "the test needs the cloth on the sphere";
+    write_checkpoint(dir.file("checkpoint.bin"), capture_checkpoint(original, 1, "{}", 0.0));
+    World resumed = make();
+    restore_checkpoint(read_checkpoint(dir.file("checkpoint.bin")), resumed, "checkpoint.bin");
+    for (int step = 0; step < 20; ++step) {
+      original.step();
+      resumed.step();
+    }
+    EXPECT_GT(original.last_step_stats().contacts, 0);
+    EXPECT_TRUE(resumed.cloths()[0].state.x == original.cloths()[0].state.x);
+    EXPECT_TRUE(resumed.cloths()[0].state.v == original.cloths()[0].state.v);
+  }
 }
 
 TEST(Checkpoint, KeepsRestPositionsAndColliders) {

@@ -147,7 +147,7 @@ class CouplingContact : public SolveContact {
   int off_segment = 0;
 
   double begin_step(const Positions&, const Positions&, double) override { return 1.0; }
-  double max_step(const Positions& x, const Positions& dx) override {
+  double max_step(const Positions& x, const Eigen::Ref<const Positions>& dx) override {
     from = x;
     segment = dx;
     ++max_steps;
