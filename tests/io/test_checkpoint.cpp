@@ -127,7 +127,7 @@ TEST(Checkpoint, PlasticRestShapesAreRestoredAndTheRunContinuesBitIdentically) {
 
 // An 8x8 sheet of 1 m, level at `height` above a ball of radius 0.3 m at the origin, implicit
 // Euler at h = 1/240 s, with the `collision` settings (JSON).
-World sheet_over_ball(const std::string& collision, double height) {
+nlohmann::json sheet_over_ball_scene(const std::string& collision, double height) {
   nlohmann::json document = nlohmann::json::parse(R"({
     "solver": {"time_step": 0.004166666666666667, "integrator": "implicit_euler"},
     "cloths": [{"name": "sheet", "grid": {"size": [1, 1], "resolution": [8, 8]},
@@ -136,7 +136,12 @@ World sheet_over_ball(const std::string& collision, double height) {
   })");
   document["collision"] = nlohmann::json::parse(collision);
   document["cloths"][0]["transform"]["translation"] = {0.0, height, 0.0};
-  return build_world(parse_scene(document, "<inline>"));
+  return document;
+}
+
+// That scene, built.
+World sheet_over_ball(const std::string& collision, double height) {
+  return build_world(parse_scene(sheet_over_ball_scene(collision, height), "<inline>"));
 }
 
 // The energy flows since frame 0 travel with the checkpoint, so a resumed run's budget carries
@@ -244,15 +249,11 @@ TEST(Checkpoint, TheBarrierResponseContinuesBitIdentically) {
     SCOPED_TRACE(ball ? "sphere as a ball" : "sphere as its mesh");
     TempDir dir("weft_checkpoint_barrier");
     const auto make = [ball] {
-      nlohmann::json collision = {{"response", "barrier"}, {"strain_limit", 0}, {"analytic_colliders", ball}};
-      nlohmann::json document = nlohmann::json::parse(R"({
-        "solver": {"time_step": 0.004166666666666667, "integrator": "implicit_euler"},
-        "cloths": [{"name": "sheet", "grid": {"size": [1, 1], "resolution": [8, 8]},
-                    "transform": {"translation": [0, 0.32, 0], "rotation_degrees": [-90, 0, 0]},
-                    "friction": {"static": 0.4, "kinetic": 0.3}, "self_collision": true}],
-        "colliders": [{"type": "sphere", "name": "ball", "radius": 0.3, "friction": 0.3}]
-      })");
-      document["collision"] = collision;
+      nlohmann::json document = sheet_over_ball_scene("{}", 0.32);
+      document["collision"] = {{"response", "barrier"}, {"strain_limit", 0}, {"analytic_colliders", ball}};
+      document["cloths"][0]["friction"] = {{"static", 0.4}, {"kinetic", 0.3}};
+      document["cloths"][0]["self_collision"] = true;
+      document["colliders"][0]["friction"] = 0.3;
       return build_world(parse_scene(document, "<inline>"));
     };
     World original = make();
